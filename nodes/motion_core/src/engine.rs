@@ -1,0 +1,49 @@
+//! The contract between an engine and the cycle that drives it.
+
+use crate::fb::{CmdId, CommandEvent, Rejection};
+
+/// One cycle handed to an engine. Time never comes from a clock inside an engine.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tick {
+    /// Cycle counter since start (0 for the first cycle).
+    pub index: u64,
+    /// Nominal cycle time [s]; always the configured period, also after a late wake-up.
+    pub dt: f64,
+}
+
+impl Tick {
+    /// Simulated time at the start of this cycle [s].
+    pub fn time(&self) -> f64 {
+        self.index as f64 * self.dt
+    }
+}
+
+/// A pure, deterministic engine: commands in, `step(dt)`, state out.
+///
+/// The runtime calls, in every cycle: `command` for each queued command (arrival order),
+/// then `step` once, then `snapshot` when a state publication is due.
+pub trait Engine: Send + 'static {
+    /// A decoded, screened command (one FB call / Execute edge).
+    type Command: Send + 'static;
+    /// What an accepted command answers at once (usually its [`CmdId`] and a payload).
+    type Reply: Send + 'static;
+    /// A copy of the engine state, cheap enough to take at the state-topic rate.
+    type Snapshot: Clone + Send + Sync + 'static;
+
+    /// Applies one command. `Ok` = accepted (the command may still end in an error later,
+    /// reported as a [`CommandEvent`]); `Err` = rejected at once with an error id.
+    fn command(&mut self, cmd: Self::Command) -> Result<Self::Reply, Rejection>;
+
+    /// Advances by one cycle. Status changes of commands are appended to `events`
+    /// (the vector is reused by the caller: no allocation in steady state).
+    fn step(&mut self, tick: Tick, events: &mut Vec<CommandEvent>);
+
+    /// The state as published on the state topics.
+    fn snapshot(&self) -> Self::Snapshot;
+
+    /// Called when the ROS side gave up on a command (e.g. an action goal was cancelled):
+    /// the engine applies the manual's halt semantics for it. Default: nothing to do.
+    fn cancel(&mut self, _id: CmdId) -> Result<(), Rejection> {
+        Ok(())
+    }
+}

@@ -1,0 +1,115 @@
+//! The PLCopen function-block handshake shared by all engines (single_axis.md §3).
+//!
+//! One service/action call is one rising Execute edge of a fresh FB instance: the engine
+//! admits it (returning a [`CmdId`]) or rejects it at once with a [`Rejection`]. Afterwards
+//! the instance's outputs change only inside `step`, reported as [`CommandEvent`]s.
+
+use crate::error_id::ErrorId;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// Identity of one admitted FB instance (one Execute edge). Unique per engine.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct CmdId(pub u64);
+
+/// The mutually exclusive phase of an Execute-type FB (single_axis.md §3.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CommandState {
+    /// Admitted and queued (buffered behind another command): Busy, not yet Active.
+    Busy,
+    /// In control of the object: Busy and Active.
+    Active,
+    /// Finished as commanded (Done). Final.
+    Done,
+    /// Taken over by another command or a stop (CommandAborted). Final.
+    Aborted,
+    /// Ended with an error (Error + ErrorID). Final.
+    Error(ErrorId),
+}
+
+impl CommandState {
+    /// Done, Aborted and Error end an instance; Busy and Active do not.
+    pub fn is_final(self) -> bool {
+        matches!(self, CommandState::Done | CommandState::Aborted | CommandState::Error(_))
+    }
+}
+
+/// The standard outputs of an Execute-type FB, derived from its state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ExecuteOutputs {
+    /// Done output.
+    pub done: bool,
+    /// Busy output.
+    pub busy: bool,
+    /// Active output.
+    pub active: bool,
+    /// CommandAborted output.
+    pub command_aborted: bool,
+    /// Error output.
+    pub error: bool,
+    /// ErrorID output (0 unless `error`).
+    pub error_id: ErrorId,
+}
+
+impl From<CommandState> for ExecuteOutputs {
+    fn from(s: CommandState) -> Self {
+        let mut o = ExecuteOutputs::default();
+        match s {
+            CommandState::Busy => o.busy = true,
+            CommandState::Active => {
+                o.busy = true;
+                o.active = true
+            }
+            CommandState::Done => o.done = true,
+            CommandState::Aborted => o.command_aborted = true,
+            CommandState::Error(id) => {
+                o.error = true;
+                o.error_id = id
+            }
+        }
+        o
+    }
+}
+
+/// A status change of an admitted command, reported by `Engine::step`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CommandEvent {
+    /// The command instance.
+    pub id: CmdId,
+    /// Its new state.
+    pub state: CommandState,
+}
+
+/// Why a command was refused at its Execute edge (it never became Busy).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Rejection {
+    /// The manual's error id.
+    pub error_id: ErrorId,
+    /// Human-readable: names the object, field and value where there is one.
+    pub message: String,
+}
+
+impl Rejection {
+    /// A rejection with an id and a message.
+    pub fn new(error_id: ErrorId, message: impl Into<String>) -> Self {
+        Rejection { error_id, message: message.into() }
+    }
+
+    /// A NaN/infinite field.
+    pub fn not_finite(object: &str, field: &str, value: f64) -> Self {
+        Rejection::new(ErrorId::NOT_FINITE, format!("{object}: {field} = {value} is not finite"))
+    }
+
+    /// An unknown object name.
+    pub fn unknown_object(kind: &str, name: &str) -> Self {
+        Rejection::new(ErrorId::UNKNOWN_OBJECT, format!("unknown {kind} '{name}'"))
+    }
+}
+
+impl fmt::Display for Rejection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "error {}: {}", self.error_id, self.message)
+    }
+}
+
+impl std::error::Error for Rejection {}

@@ -1,0 +1,1 @@
+//! System tests and benchmarks of the motion suite (see tests/ and src/bin/).
