@@ -1,1 +1,10 @@
-//! (being built)
+//! The runtime every node uses: the cyclic controller (`cycle`), its statistics (`stats`),
+//! real-time helpers (`rt`), and the shared ROS 2 shell (`shell`: node creation on loopback,
+//! services and actions with the PLCopen handshake, parameters, /diagnostics, /clock, rosout).
+
+pub mod cycle;
+pub mod rt;
+pub mod stats;
+
+pub use cycle::{ClockMode, Controller, ControllerHandle, CycleConfig, Stamped};
+pub use stats::CycleStats;

@@ -1,0 +1,481 @@
+//! The cyclic controller: one thread owns the engine and runs its cycle.
+//!
+//! Real time: absolute deadlines on `CLOCK_MONOTONIC` (`clock_nanosleep(TIMER_ABSTIME)`), so the
+//! schedule never drifts. A late wake-up runs the cycle at once and keeps the schedule: no
+//! skipped cycle, no doubled period, and the engine always gets the nominal `dt`.
+//! Lockstep: simulated time; cycles run only when asked (`step(n)`) or as fast as possible
+//! (`free_run`). Either way the cycle never blocks on the ROS side: commands arrive through a
+//! bounded queue (full = an immediate rejection), replies and events leave through non-blocking
+//! channels, snapshots through a `watch` channel (a short lock, never held across DDS calls).
+
+use crate::stats::{CycleStats, StatsRecorder};
+use motion_core::{CmdId, CommandEvent, Engine, ErrorId, Rejection, Tick};
+use std::collections::{HashMap, VecDeque};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+use tokio::sync::{mpsc as tmpsc, oneshot, watch};
+
+/// How the cycle is clocked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClockMode {
+    /// Wall-clock period with absolute deadlines.
+    RealTime,
+    /// Simulated time: cycles run on request (`step`) or as fast as possible (`free_run`).
+    Lockstep,
+}
+
+/// Settings of one controller (from the launch config / ROS parameters).
+#[derive(Clone, Debug)]
+pub struct CycleConfig {
+    /// Node name, for thread names and diagnostics.
+    pub name: String,
+    /// Nominal period [s] (default 1 ms).
+    pub period: f64,
+    /// Real time or lockstep.
+    pub mode: ClockMode,
+    /// Capacity of the command queue into the cycle.
+    pub queue_capacity: usize,
+    /// A snapshot is taken every this many cycles (and after every lockstep batch).
+    pub snapshot_every: u32,
+}
+
+impl Default for CycleConfig {
+    fn default() -> Self {
+        CycleConfig {
+            name: "node".into(),
+            period: 0.001,
+            mode: ClockMode::RealTime,
+            queue_capacity: 256,
+            snapshot_every: 10,
+        }
+    }
+}
+
+/// A state snapshot with the cycle it was taken after.
+#[derive(Clone, Debug)]
+pub struct Stamped<S> {
+    /// Cycles run when the snapshot was taken.
+    pub cycle: u64,
+    /// Simulated time [s] = cycle × period (the engine's time base).
+    pub sim_time: f64,
+    /// The engine's snapshot.
+    pub state: S,
+}
+
+type CommandReply<E> = oneshot::Sender<Result<<E as Engine>::Reply, Rejection>>;
+/// Finds the command id in an engine's reply, so events can be routed to the caller.
+pub type ReplyId<E> = fn(&<E as Engine>::Reply) -> Option<CmdId>;
+
+enum Request<E: Engine> {
+    Command {
+        cmd: E::Command,
+        reply: CommandReply<E>,
+        watcher: Option<tmpsc::UnboundedSender<CommandEvent>>,
+    },
+    Cancel {
+        id: CmdId,
+        reply: oneshot::Sender<Result<(), Rejection>>,
+    },
+}
+
+/// Lockstep control, on its own unbounded channel so commands stay in the bounded queue.
+enum Control {
+    /// Run `n` cycles, then answer with the cycle count.
+    Step { n: u64, reply: oneshot::Sender<u64> },
+    /// Run continuously (true) or only on request (false).
+    FreeRun(bool),
+}
+
+/// The ROS side's handle on a running controller. Cheap to clone.
+pub struct ControllerHandle<E: Engine> {
+    queue: SyncSender<Request<E>>,
+    control: mpsc::Sender<Control>,
+    wake: Arc<Wake>,
+    snapshots: watch::Receiver<Arc<Stamped<E::Snapshot>>>,
+    stats: Arc<Mutex<CycleStats>>,
+    config: Arc<CycleConfig>,
+    stop: Arc<AtomicBool>,
+}
+
+impl<E: Engine> Clone for ControllerHandle<E> {
+    fn clone(&self) -> Self {
+        ControllerHandle {
+            queue: self.queue.clone(),
+            control: self.control.clone(),
+            wake: self.wake.clone(),
+            snapshots: self.snapshots.clone(),
+            stats: self.stats.clone(),
+            config: self.config.clone(),
+            stop: self.stop.clone(),
+        }
+    }
+}
+
+/// Owns the controller thread; dropping it stops the cycle and joins the thread.
+pub struct Controller<E: Engine> {
+    handle: ControllerHandle<E>,
+    thread: Option<JoinHandle<E>>,
+}
+
+/// Wakes a lockstep controller waiting for requests.
+#[derive(Default)]
+struct Wake {
+    flag: Mutex<bool>,
+    cv: std::sync::Condvar,
+}
+
+impl Wake {
+    fn notify(&self) {
+        let mut f = self.flag.lock().unwrap_or_else(|e| e.into_inner());
+        *f = true;
+        self.cv.notify_one();
+    }
+    fn wait(&self) {
+        let mut f = self.flag.lock().unwrap_or_else(|e| e.into_inner());
+        while !*f {
+            f = self.cv.wait(f).unwrap_or_else(|e| e.into_inner());
+        }
+        *f = false;
+    }
+}
+
+/// Where the cycle sends command events: every event to the status stream, and each command's
+/// events also to the caller that asked to watch it (an action goal, a test).
+pub struct EventSink {
+    all: tmpsc::UnboundedSender<CommandEvent>,
+}
+
+impl<E: Engine> Controller<E> {
+    /// Starts the controller thread with `engine`. Returns the controller and the receiver of
+    /// all command events (for the command-status topic).
+    pub fn spawn(
+        engine: E,
+        config: CycleConfig,
+        reply_id: ReplyId<E>,
+    ) -> std::io::Result<(Self, tmpsc::UnboundedReceiver<CommandEvent>)> {
+        assert!(config.period.is_finite() && config.period > 0.0, "period validated by config");
+        let (queue, rx) = mpsc::sync_channel(config.queue_capacity.max(1));
+        let (control, control_rx) = mpsc::channel();
+        let first = Arc::new(Stamped { cycle: 0, sim_time: 0.0, state: engine.snapshot() });
+        let (snap_tx, snapshots) = watch::channel(first);
+        let (all_tx, all_rx) = tmpsc::unbounded_channel();
+        let stats = Arc::new(Mutex::new(CycleStats::new(&config.name, config.period, config.mode)));
+        let stop = Arc::new(AtomicBool::new(false));
+        let wake = Arc::new(Wake::default());
+        let config = Arc::new(config);
+        let mut cycle = CycleThread {
+            engine,
+            rx,
+            control_rx,
+            snap_tx,
+            sink: EventSink { all: all_tx },
+            watchers: HashMap::new(),
+            events: Vec::with_capacity(64),
+            recorder: StatsRecorder::new(config.period),
+            stats: stats.clone(),
+            config: config.clone(),
+            reply_id,
+            cycle: 0,
+            stop: stop.clone(),
+            wake: wake.clone(),
+            free_run: false,
+        };
+        let thread = std::thread::Builder::new()
+            .name(format!("cycle-{}", config.name))
+            .spawn(move || {
+                cycle.run();
+                cycle.engine
+            })?;
+        let handle = ControllerHandle { queue, control, wake, snapshots, stats, config, stop };
+        Ok((Controller { handle, thread: Some(thread) }, all_rx))
+    }
+
+    /// A handle for the ROS side.
+    pub fn handle(&self) -> ControllerHandle<E> {
+        self.handle.clone()
+    }
+
+    /// Stops the cycle and returns the engine (for tests that inspect it afterwards).
+    pub fn shutdown(mut self) -> Option<E> {
+        self.stop_thread()
+    }
+
+    fn stop_thread(&mut self) -> Option<E> {
+        self.handle.stop.store(true, Ordering::SeqCst);
+        self.handle.wake.notify();
+        self.thread.take().and_then(|t| t.join().ok())
+    }
+}
+
+impl<E: Engine> Drop for Controller<E> {
+    fn drop(&mut self) {
+        self.stop_thread();
+    }
+}
+
+impl<E: Engine> ControllerHandle<E> {
+    /// Queues a command for the next cycle without waiting. A full queue is an immediate
+    /// rejection (`QUEUE_FULL`), never a block.
+    pub fn submit(
+        &self,
+        cmd: E::Command,
+        watcher: Option<tmpsc::UnboundedSender<CommandEvent>>,
+    ) -> Result<oneshot::Receiver<Result<E::Reply, Rejection>>, Rejection> {
+        let (reply, rx) = oneshot::channel();
+        self.push(Request::Command { cmd, reply, watcher })?;
+        Ok(rx)
+    }
+
+    /// Submits a command and waits for the cycle's answer (accepted or rejected).
+    pub async fn call(&self, cmd: E::Command) -> Result<E::Reply, Rejection> {
+        let rx = self.submit(cmd, None)?;
+        rx.await.unwrap_or_else(|_| Err(not_running()))
+    }
+
+    /// Submits a command and, once accepted, returns its events (Busy/Active/.../final state).
+    pub async fn call_watched(
+        &self,
+        cmd: E::Command,
+    ) -> Result<(E::Reply, tmpsc::UnboundedReceiver<CommandEvent>), Rejection> {
+        let (tx, rx_events) = tmpsc::unbounded_channel();
+        let rx = self.submit(cmd, Some(tx))?;
+        let reply = rx.await.unwrap_or_else(|_| Err(not_running()))?;
+        Ok((reply, rx_events))
+    }
+
+    /// Asks the engine to apply the halt semantics of a command (action cancel).
+    pub async fn cancel(&self, id: CmdId) -> Result<(), Rejection> {
+        let (reply, rx) = oneshot::channel();
+        self.push(Request::Cancel { id, reply })?;
+        rx.await.unwrap_or_else(|_| Err(not_running()))
+    }
+
+    /// Lockstep: runs `n` cycles and returns the cycle count afterwards.
+    /// In real-time mode the request is rejected.
+    pub async fn step(&self, n: u64) -> Result<u64, Rejection> {
+        if self.config.mode != ClockMode::Lockstep {
+            return Err(Rejection::new(
+                ErrorId::VALUE_OUT_OF_RANGE,
+                "step is only available in lockstep mode (use_sim_time / lockstep: true)",
+            ));
+        }
+        let (reply, rx) = oneshot::channel();
+        self.push_control(Control::Step { n, reply })?;
+        rx.await.map_err(|_| not_running())
+    }
+
+    /// Lockstep: run continuously as fast as possible (true) or only on `step` (false).
+    pub fn free_run(&self, on: bool) -> Result<(), Rejection> {
+        self.push_control(Control::FreeRun(on))
+    }
+
+    fn push_control(&self, c: Control) -> Result<(), Rejection> {
+        if self.stop.load(Ordering::Relaxed) {
+            return Err(not_running());
+        }
+        self.control.send(c).map_err(|_| not_running())?;
+        self.wake.notify();
+        Ok(())
+    }
+
+    /// The latest snapshot.
+    pub fn snapshot(&self) -> Arc<Stamped<E::Snapshot>> {
+        self.snapshots.borrow().clone()
+    }
+
+    /// A receiver that is notified on each new snapshot.
+    pub fn snapshots(&self) -> watch::Receiver<Arc<Stamped<E::Snapshot>>> {
+        self.snapshots.clone()
+    }
+
+    /// The cycle statistics so far.
+    pub fn stats(&self) -> CycleStats {
+        self.stats.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    /// The controller's configuration.
+    pub fn config(&self) -> &CycleConfig {
+        &self.config
+    }
+
+    fn push(&self, req: Request<E>) -> Result<(), Rejection> {
+        if self.stop.load(Ordering::Relaxed) {
+            return Err(not_running());
+        }
+        match self.queue.try_send(req) {
+            Ok(()) => {
+                self.wake.notify();
+                Ok(())
+            }
+            Err(TrySendError::Full(_)) => Err(Rejection::new(
+                ErrorId::QUEUE_FULL,
+                format!(
+                    "command queue of {} is full ({} entries); command not queued",
+                    self.config.name, self.config.queue_capacity
+                ),
+            )),
+            Err(TrySendError::Disconnected(_)) => Err(not_running()),
+        }
+    }
+}
+
+fn not_running() -> Rejection {
+    Rejection::new(ErrorId::NOT_RUNNING, "the node's cycle is not running")
+}
+
+struct CycleThread<E: Engine> {
+    engine: E,
+    rx: Receiver<Request<E>>,
+    control_rx: Receiver<Control>,
+    snap_tx: watch::Sender<Arc<Stamped<E::Snapshot>>>,
+    sink: EventSink,
+    watchers: HashMap<CmdId, tmpsc::UnboundedSender<CommandEvent>>,
+    events: Vec<CommandEvent>,
+    recorder: StatsRecorder,
+    stats: Arc<Mutex<CycleStats>>,
+    config: Arc<CycleConfig>,
+    reply_id: ReplyId<E>,
+    cycle: u64,
+    stop: Arc<AtomicBool>,
+    wake: Arc<Wake>,
+    free_run: bool,
+}
+
+/// Lockstep step requests not yet served: (cycles still to run, reply).
+type Steps = VecDeque<(u64, oneshot::Sender<u64>)>;
+
+impl<E: Engine> CycleThread<E> {
+    fn run(&mut self) {
+        match self.config.mode {
+            ClockMode::RealTime => self.run_realtime(),
+            ClockMode::Lockstep => self.run_lockstep(),
+        }
+        self.publish_stats();
+    }
+
+    fn run_realtime(&mut self) {
+        crate::rt::prepare_cycle_thread();
+        let period = Duration::from_secs_f64(self.config.period);
+        let mut deadline = Instant::now() + period;
+        while !self.stop.load(Ordering::Relaxed) {
+            crate::rt::sleep_until(deadline);
+            let woke = Instant::now();
+            let lateness = woke.saturating_duration_since(deadline);
+            self.cycle_once();
+            let end = Instant::now();
+            // The next deadline keeps the schedule, whatever happened to this cycle.
+            deadline += period;
+            self.recorder.record(end - woke, lateness, end > deadline);
+            if self.recorder.due_for_publish(self.cycle) {
+                self.publish_stats();
+            }
+        }
+    }
+
+    fn run_lockstep(&mut self) {
+        let mut pending: Steps = VecDeque::new();
+        while !self.stop.load(Ordering::Relaxed) {
+            if pending.is_empty() && !self.free_run {
+                self.wake.wait();
+                self.drain_control(&mut pending);
+                continue;
+            }
+            self.drain_control(&mut pending);
+            let t0 = Instant::now();
+            self.cycle_once();
+            self.recorder.record(t0.elapsed(), Duration::ZERO, false);
+            match pending.front_mut() {
+                Some(front) => {
+                    front.0 -= 1;
+                    if front.0 == 0 {
+                        self.take_snapshot();
+                        if let Some((_, reply)) = pending.pop_front() {
+                            let _ = reply.send(self.cycle);
+                        }
+                    }
+                }
+                None => {
+                    if self.cycle % u64::from(self.config.snapshot_every.max(1)) == 0 {
+                        self.take_snapshot();
+                    }
+                }
+            }
+            if self.recorder.due_for_publish(self.cycle) {
+                self.publish_stats();
+            }
+        }
+    }
+
+    /// Lockstep: takes step and free-run requests (commands wait in their queue).
+    fn drain_control(&mut self, pending: &mut Steps) {
+        while let Ok(c) = self.control_rx.try_recv() {
+            match c {
+                Control::Step { n: 0, reply } => {
+                    let _ = reply.send(self.cycle);
+                }
+                Control::Step { n, reply } => pending.push_back((n, reply)),
+                Control::FreeRun(on) => self.free_run = on,
+            }
+        }
+    }
+
+    /// One cycle: commands in arrival order, then `step`, then events and snapshot.
+    fn cycle_once(&mut self) {
+        while let Ok(req) = self.rx.try_recv() {
+            self.apply(req);
+        }
+        let tick = Tick { index: self.cycle, dt: self.config.period };
+        self.engine.step(tick, &mut self.events);
+        self.cycle += 1;
+        for ev in self.events.drain(..) {
+            let _ = self.sink.all.send(ev);
+            if let Some(w) = self.watchers.get(&ev.id) {
+                let _ = w.send(ev);
+                if ev.state.is_final() {
+                    self.watchers.remove(&ev.id);
+                }
+            }
+        }
+        if self.config.mode == ClockMode::RealTime
+            && self.cycle % u64::from(self.config.snapshot_every.max(1)) == 0
+        {
+            self.take_snapshot();
+        }
+    }
+
+    fn apply(&mut self, req: Request<E>) {
+        match req {
+            Request::Command { cmd, reply, watcher } => {
+                let result = self.engine.command(cmd);
+                if let (Ok(r), Some(w)) = (&result, watcher) {
+                    if let Some(id) = (self.reply_id)(r) {
+                        self.watchers.insert(id, w);
+                    }
+                }
+                let _ = reply.send(result);
+            }
+            Request::Cancel { id, reply } => {
+                let _ = reply.send(self.engine.cancel(id));
+            }
+        }
+    }
+
+    fn take_snapshot(&mut self) {
+        let snap = Stamped {
+            cycle: self.cycle,
+            sim_time: self.cycle as f64 * self.config.period,
+            state: self.engine.snapshot(),
+        };
+        self.snap_tx.send_replace(Arc::new(snap));
+    }
+
+    fn publish_stats(&mut self) {
+        // try_lock: a reader holding the lock costs this cycle nothing; stats come next time.
+        if let Ok(mut s) = self.stats.try_lock() {
+            self.recorder.fill(&mut s, self.cycle);
+        }
+    }
+}

@@ -1,0 +1,215 @@
+//! The cyclic controller with a trivial engine: lockstep determinism, command ordering,
+//! queue-full rejection, events routed to watchers, real-time schedule without drift.
+
+use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, Rejection, Tick};
+use motion_runtime::{ClockMode, Controller, CycleConfig};
+use std::time::{Duration, Instant};
+
+/// Integrates a velocity; a "move" command runs for `cycles` cycles then reports Done.
+struct Counter {
+    next_id: u64,
+    pos: f64,
+    vel: f64,
+    dts: Vec<f64>,
+    job: Option<(CmdId, u64)>,
+    started: bool,
+}
+
+enum Cmd {
+    SetVel(f64),
+    Move(u64),
+}
+
+impl Engine for Counter {
+    type Command = Cmd;
+    type Reply = Option<CmdId>;
+    type Snapshot = (f64, usize);
+
+    fn command(&mut self, cmd: Cmd) -> Result<Self::Reply, Rejection> {
+        match cmd {
+            Cmd::SetVel(v) if !v.is_finite() => Err(Rejection::not_finite("counter", "vel", v)),
+            Cmd::SetVel(v) => {
+                self.vel = v;
+                Ok(None)
+            }
+            Cmd::Move(n) => {
+                self.next_id += 1;
+                let id = CmdId(self.next_id);
+                self.job = Some((id, n));
+                self.started = false;
+                Ok(Some(id))
+            }
+        }
+    }
+
+    fn step(&mut self, tick: Tick, events: &mut Vec<CommandEvent>) {
+        self.pos += self.vel * tick.dt;
+        if self.dts.len() < 100_000 {
+            self.dts.push(tick.dt);
+        }
+        if let Some((id, n)) = self.job.as_mut() {
+            if !self.started {
+                events.push(CommandEvent { id: *id, state: CommandState::Active });
+                self.started = true;
+            }
+            *n = n.saturating_sub(1);
+            if *n == 0 {
+                events.push(CommandEvent { id: *id, state: CommandState::Done });
+                self.job = None;
+            }
+        }
+    }
+
+    fn snapshot(&self) -> (f64, usize) {
+        (self.pos, self.dts.len())
+    }
+}
+
+fn counter() -> Counter {
+    Counter { next_id: 0, pos: 0.0, vel: 0.0, dts: Vec::new(), job: None, started: false }
+}
+
+fn lockstep(period: f64, queue: usize) -> CycleConfig {
+    CycleConfig {
+        name: "test".into(),
+        period,
+        mode: ClockMode::Lockstep,
+        queue_capacity: queue,
+        snapshot_every: 1,
+    }
+}
+
+fn rt() -> tokio::runtime::Runtime {
+    tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap()
+}
+
+#[test]
+fn lockstep_runs_exactly_the_requested_cycles_with_nominal_dt() {
+    rt().block_on(async {
+        let (ctl, _events) = Controller::spawn(counter(), lockstep(0.002, 8), |r| *r).unwrap();
+        let h = ctl.handle();
+        let set = h.submit(Cmd::SetVel(10.0), None).unwrap();
+        assert_eq!(h.step(500).await.unwrap(), 500);
+        assert!(set.await.unwrap().is_ok());
+        let snap = h.snapshot();
+        assert_eq!(snap.cycle, 500);
+        assert!((snap.sim_time - 1.0).abs() < 1e-12);
+        // 500 cycles of 2 ms at 10 u/s: exactly 10 u, whatever the wall clock did.
+        assert!((snap.state.0 - 10.0).abs() < 1e-9, "{}", snap.state.0);
+        let engine = ctl.shutdown().unwrap();
+        assert!(engine.dts.iter().all(|dt| *dt == 0.002));
+    });
+}
+
+#[test]
+fn lockstep_is_deterministic() {
+    let run = || {
+        rt().block_on(async {
+            let (ctl, _e) = Controller::spawn(counter(), lockstep(0.001, 8), |r| *r).unwrap();
+            let h = ctl.handle();
+            for k in 0..20 {
+                let _ = h.submit(Cmd::SetVel(k as f64 * 0.37), None).unwrap();
+                h.step(7).await.unwrap();
+            }
+            h.snapshot().state.0.to_bits()
+        })
+    };
+    assert_eq!(run(), run());
+}
+
+#[test]
+fn full_queue_is_an_immediate_rejection_and_the_cycle_keeps_going() {
+    rt().block_on(async {
+        let (ctl, _e) = Controller::spawn(counter(), lockstep(0.001, 2), |r| *r).unwrap();
+        let h = ctl.handle();
+        let _a = h.submit(Cmd::SetVel(1.0), None).unwrap();
+        let _b = h.submit(Cmd::SetVel(2.0), None).unwrap();
+        let t0 = Instant::now();
+        let err = h.submit(Cmd::SetVel(3.0), None).err();
+        // The controller thread may already have taken requests off the queue while idle;
+        // keep pushing until full, which must happen without blocking.
+        let err = match err {
+            Some(e) => e,
+            None => loop {
+                if let Err(e) = h.submit(Cmd::SetVel(3.0), None) {
+                    break e;
+                }
+            },
+        };
+        assert!(t0.elapsed() < Duration::from_millis(500));
+        assert_eq!(err.error_id, ErrorId::QUEUE_FULL);
+        assert!(h.step(10).await.is_ok());
+        assert_eq!(h.snapshot().cycle, 10);
+    });
+}
+
+#[test]
+fn bad_command_is_rejected_with_its_error_id_and_state_is_kept() {
+    rt().block_on(async {
+        let (ctl, _e) = Controller::spawn(counter(), lockstep(0.001, 8), |r| *r).unwrap();
+        let h = ctl.handle();
+        h.free_run(true).unwrap();
+        let err = h.call(Cmd::SetVel(f64::NAN)).await.unwrap_err();
+        assert_eq!(err.error_id, ErrorId::NOT_FINITE);
+        assert!(err.message.contains("vel"));
+        h.free_run(false).unwrap();
+        assert_eq!(h.snapshot().state.0, 0.0);
+    });
+}
+
+#[test]
+fn events_reach_the_watcher_and_the_status_stream() {
+    rt().block_on(async {
+        let (ctl, mut all) = Controller::spawn(counter(), lockstep(0.001, 8), |r| *r).unwrap();
+        let h = ctl.handle();
+        let fut = h.call_watched(Cmd::Move(5));
+        let stepper = async {
+            h.step(1).await.unwrap();
+        };
+        let ((reply, mut events), ()) = tokio::join!(async { fut.await.unwrap() }, stepper);
+        let id = reply.unwrap();
+        h.step(10).await.unwrap();
+        assert_eq!(events.recv().await.unwrap(), CommandEvent { id, state: CommandState::Active });
+        assert_eq!(events.recv().await.unwrap(), CommandEvent { id, state: CommandState::Done });
+        // The watcher is dropped after the final event.
+        assert!(events.recv().await.is_none());
+        assert_eq!(all.recv().await.unwrap().state, CommandState::Active);
+        assert_eq!(all.recv().await.unwrap().state, CommandState::Done);
+    });
+}
+
+#[test]
+fn realtime_keeps_the_schedule_without_drift() {
+    let cfg = CycleConfig {
+        name: "rt".into(),
+        period: 0.001,
+        mode: ClockMode::RealTime,
+        queue_capacity: 8,
+        snapshot_every: 1,
+    };
+    let (ctl, _e) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
+    let h = ctl.handle();
+    let t0 = Instant::now();
+    let c0 = h.snapshot().cycle;
+    std::thread::sleep(Duration::from_millis(300));
+    let c1 = h.snapshot().cycle;
+    let wall = t0.elapsed().as_secs_f64();
+    // Absolute deadlines: the cycle count follows the wall clock (±10 cycles for the
+    // snapshot lag and thread start), never fewer because of sleep overshoot.
+    let expected = wall / 0.001;
+    let got = (c1 - c0) as f64;
+    assert!((got - expected).abs() < 15.0, "cycles {got} vs wall {expected}");
+    let engine = ctl.shutdown().unwrap();
+    assert!(engine.dts.iter().all(|dt| *dt == 0.001));
+    assert!(h.step(1).now_or_never_is_rejected());
+}
+
+trait NowOrNever {
+    fn now_or_never_is_rejected(self) -> bool;
+}
+
+impl<F: std::future::Future<Output = Result<u64, Rejection>>> NowOrNever for F {
+    fn now_or_never_is_rejected(self) -> bool {
+        rt().block_on(self).is_err()
+    }
+}
