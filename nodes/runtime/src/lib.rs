@@ -8,3 +8,13 @@ pub mod stats;
 
 pub use cycle::{ClockMode, Controller, ControllerHandle, CycleConfig, Stamped};
 pub use stats::CycleStats;
+pub mod logging;
+pub mod shell;
+
+pub use shell::{ActionBinding, CommandLabel, EngineShell, NodeShell, ShellError, ShellSettings};
+pub mod host;
+
+pub use host::{CommonConfig, ConfigError, NodeHost};
+pub mod launch;
+
+pub use launch::{NodeKind, RunningNode, StartError};

@@ -1,0 +1,234 @@
+//! Hosting one node: its common settings from the launch config, its Context, its cycle and
+//! its ROS shell, kept alive together and shut down in the right order.
+
+use crate::cycle::{ClockMode, Controller, ControllerHandle, CycleConfig};
+use crate::shell::{self, EngineShell, NodeShell, ShellError, ShellSettings};
+use ros2_client::{Context, ParameterValue};
+use serde::Deserialize;
+use std::fmt;
+
+/// Settings every node entry of a launch config may give (all optional).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct CommonConfig {
+    /// Node name (default: the node kind, e.g. `axis_node`).
+    pub name: String,
+    /// Namespace (default `/`).
+    pub namespace: String,
+    /// Cycle period [s] (default 0.001).
+    pub cycle_period: f64,
+    /// State topic rate [Hz] (default 100).
+    pub state_rate: f64,
+    /// Lockstep mode with simulated time (default false; `use_sim_time: true` implies it).
+    pub lockstep: bool,
+    /// `use_sim_time` as in ROS: the node's clock follows `/clock`; here it also selects lockstep.
+    pub use_sim_time: bool,
+    /// `auto` (from RMW_IMPLEMENTATION), `cyclone`, `enhanced` or `basic`.
+    pub service_mapping: String,
+    /// Capacity of the command queue into the cycle (default 256).
+    pub queue_capacity: usize,
+}
+
+impl Default for CommonConfig {
+    fn default() -> Self {
+        CommonConfig {
+            name: String::new(),
+            namespace: "/".into(),
+            cycle_period: 0.001,
+            state_rate: 100.0,
+            lockstep: false,
+            use_sim_time: false,
+            service_mapping: "auto".into(),
+            queue_capacity: 256,
+        }
+    }
+}
+
+/// The keys of [`CommonConfig`]; everything else in a node entry belongs to the engine.
+pub const COMMON_KEYS: &[&str] = &[
+    "kind",
+    "name",
+    "namespace",
+    "cycle_period",
+    "state_rate",
+    "lockstep",
+    "use_sim_time",
+    "service_mapping",
+    "queue_capacity",
+];
+
+/// A configuration error: where (file, key) and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConfigError {
+    /// Where: `file: nodes[0] (axis_node): axes.x.max_velocity`.
+    pub location: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.location, self.message)
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+impl CommonConfig {
+    /// Validates ranges and fills the default name. `location` prefixes error messages.
+    pub fn validated(mut self, kind: &str, location: &str) -> Result<Self, ConfigError> {
+        let bad = |key: &str, msg: String| ConfigError { location: format!("{location}.{key}"), message: msg };
+        if self.name.is_empty() {
+            self.name = kind.to_string();
+        }
+        if ros2_client::NodeName::new(&self.namespace, &self.name).is_err() {
+            return Err(bad("name", format!("'{}' in namespace '{}' is not a valid ROS node name", self.name, self.namespace)));
+        }
+        if !(self.cycle_period.is_finite() && self.cycle_period >= 1e-5 && self.cycle_period <= 1.0) {
+            return Err(bad("cycle_period", format!("{} s is outside 0.00001..1 s", self.cycle_period)));
+        }
+        if !(self.state_rate.is_finite() && self.state_rate > 0.0 && self.state_rate <= 1000.0) {
+            return Err(bad("state_rate", format!("{} Hz is outside (0, 1000] Hz", self.state_rate)));
+        }
+        if self.queue_capacity == 0 || self.queue_capacity > 100_000 {
+            return Err(bad("queue_capacity", format!("{} is outside 1..100000", self.queue_capacity)));
+        }
+        shell::service_mapping(Some(&self.service_mapping)).map_err(|e| bad("service_mapping", e.0))?;
+        if self.use_sim_time {
+            self.lockstep = true;
+        }
+        Ok(self)
+    }
+
+    /// The cycle settings.
+    pub fn cycle(&self) -> CycleConfig {
+        CycleConfig {
+            name: self.name.clone(),
+            period: self.cycle_period,
+            mode: if self.lockstep { ClockMode::Lockstep } else { ClockMode::RealTime },
+            queue_capacity: self.queue_capacity,
+            snapshot_every: ((1.0 / self.state_rate / self.cycle_period).floor() as u32).max(1),
+        }
+    }
+
+    /// The ROS-side settings.
+    pub fn shell(&self) -> Result<ShellSettings, ShellError> {
+        Ok(ShellSettings {
+            node_name: self.name.clone(),
+            namespace: self.namespace.clone(),
+            service_mapping: shell::service_mapping(Some(&self.service_mapping))?,
+            state_rate: self.state_rate,
+            lockstep: self.lockstep,
+        })
+    }
+
+    /// The node-level ROS parameters (read-only at run time).
+    pub fn parameters(&self) -> Vec<(String, ParameterValue)> {
+        vec![
+            ("cycle_period".into(), ParameterValue::Double(self.cycle_period)),
+            ("state_rate".into(), ParameterValue::Double(self.state_rate)),
+            ("lockstep".into(), ParameterValue::Boolean(self.lockstep)),
+            ("service_mapping".into(), ParameterValue::String(self.service_mapping.clone())),
+            ("queue_capacity".into(), ParameterValue::Integer(self.queue_capacity as i64)),
+        ]
+    }
+}
+
+/// Splits a node entry of a launch config into its common settings and the engine's part.
+pub fn split_entry(
+    entry: &serde_yaml::Mapping,
+    kind: &str,
+    location: &str,
+) -> Result<(CommonConfig, serde_yaml::Value), ConfigError> {
+    let mut common = serde_yaml::Mapping::new();
+    let mut engine = serde_yaml::Mapping::new();
+    for (k, v) in entry {
+        let key = k.as_str().unwrap_or_default();
+        if key == "kind" {
+            continue;
+        }
+        if COMMON_KEYS.contains(&key) {
+            common.insert(k.clone(), v.clone());
+        } else {
+            engine.insert(k.clone(), v.clone());
+        }
+    }
+    let common: CommonConfig = from_value(serde_yaml::Value::Mapping(common), location)?;
+    Ok((common.validated(kind, location)?, serde_yaml::Value::Mapping(engine)))
+}
+
+/// Deserializes part of a launch config with errors that name the key path.
+pub fn from_value<T: serde::de::DeserializeOwned>(v: serde_yaml::Value, location: &str) -> Result<T, ConfigError> {
+    // Going through text keeps serde_yaml's key path in the message ("axes.x: unknown field").
+    let text = serde_yaml::to_string(&v).map_err(|e| ConfigError { location: location.into(), message: e.to_string() })?;
+    serde_yaml::from_str(&text).map_err(|e| {
+        let msg = e.to_string();
+        // Line numbers refer to the re-serialized fragment, not the file: drop them.
+        let msg = match msg.find(" at line ") {
+            Some(i) => msg[..i].to_string(),
+            None => msg,
+        };
+        ConfigError { location: location.into(), message: msg }
+    })
+}
+
+/// One running node: Context, cycle and ROS shell. Dropping it stops the node in order.
+pub struct NodeHost<E: EngineShell> {
+    /// The ROS side (dropped first).
+    pub shell: Option<NodeShell<E>>,
+    /// The cycle (dropped second).
+    pub controller: Option<Controller<E>>,
+    /// The DDS participant (dropped last).
+    pub context: Option<Context>,
+}
+
+impl<E: EngineShell> NodeHost<E>
+where
+    E::Command: Send,
+    E::Reply: Send,
+{
+    /// Starts `engine` under `common` settings (`kind` is the node crate, e.g. `axis_node`,
+    /// whose log events go to this node's rosout): a Context on the given domain (loopback-only
+    /// by default), the cycle thread, the node, then `setup` registers the node's own services,
+    /// actions and topics, and the common tasks start. Must run inside a tokio runtime.
+    pub fn start(
+        kind: &str,
+        common: &CommonConfig,
+        domain_id: u16,
+        engine: E,
+        extra_parameters: Vec<(String, ParameterValue)>,
+        setup: impl FnOnce(&mut NodeShell<E>) -> Result<(), ShellError>,
+    ) -> Result<Self, ShellError> {
+        let context = shell::create_context(domain_id)?;
+        let (controller, events) = Controller::spawn(engine, common.cycle(), E::reply_id)
+            .map_err(|e| ShellError(format!("starting the cycle thread: {e}")))?;
+        let mut params = common.parameters();
+        params.extend(extra_parameters);
+        let mut shell = NodeShell::new(&context, common.shell()?, controller.handle(), params)?;
+        crate::logging::route_to_rosout(kind, shell.node.logging_handle());
+        setup(&mut shell)?;
+        shell.start_common(events)?;
+        tracing::info!(
+            node = %common.name,
+            period = common.cycle_period,
+            lockstep = common.lockstep,
+            "node started"
+        );
+        Ok(NodeHost { shell: Some(shell), controller: Some(controller), context: Some(context) })
+    }
+
+    /// The cycle's handle.
+    pub fn handle(&self) -> ControllerHandle<E> {
+        self.controller.as_ref().expect("running").handle()
+    }
+}
+
+impl<E: EngineShell> Drop for NodeHost<E> {
+    fn drop(&mut self) {
+        if let Some(mut s) = self.shell.take() {
+            s.abort();
+        }
+        self.controller.take();
+        self.context.take();
+    }
+}

@@ -1,0 +1,303 @@
+//! Launch configs: a YAML file listing the nodes to run in one process, each with its own
+//! cycle. Used by the `motion_launch` binary (all node kinds) and by each node's own binary
+//! (only its kind).
+//!
+//! ```yaml
+//! nodes:
+//!   - kind: axis_node          # axis_node | planar_node | pickplace_node
+//!     cycle_period: 0.001      # common keys: see host::CommonConfig
+//!     axes: { x: {...} }       # the rest belongs to the node's engine
+//! ```
+
+use crate::host::{split_entry, CommonConfig, ConfigError};
+use crate::shell::{self, ShellError};
+use std::any::Any;
+use std::fmt;
+use std::path::Path;
+use std::time::Duration;
+
+/// Why a node could not start.
+#[derive(Debug)]
+pub enum StartError {
+    /// The launch config is wrong (names file and key).
+    Config(ConfigError),
+    /// The ROS side could not be set up.
+    Shell(ShellError),
+}
+
+impl fmt::Display for StartError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StartError::Config(e) => write!(f, "configuration error: {e}"),
+            StartError::Shell(e) => write!(f, "start-up error: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for StartError {}
+
+impl From<ConfigError> for StartError {
+    fn from(e: ConfigError) -> Self {
+        StartError::Config(e)
+    }
+}
+
+impl From<ShellError> for StartError {
+    fn from(e: ShellError) -> Self {
+        StartError::Shell(e)
+    }
+}
+
+/// A running node of any kind; dropping it stops the node.
+pub type RunningNode = Box<dyn Any + Send>;
+
+/// Starts one node of a kind: common settings, the engine's part of the entry, the location
+/// for error messages, the DDS domain. Must run inside a tokio runtime.
+pub type StartFn = fn(&CommonConfig, serde_yaml::Value, &str, u16) -> Result<RunningNode, StartError>;
+
+/// A node kind the launcher knows.
+#[derive(Clone, Copy)]
+pub struct NodeKind {
+    /// `axis_node`, `planar_node` or `pickplace_node`.
+    pub kind: &'static str,
+    /// Its start function.
+    pub start: StartFn,
+}
+
+/// One validated node entry.
+pub struct NodeEntry {
+    /// Kind.
+    pub kind: &'static str,
+    /// Where it is, for messages: `file: nodes[i]`.
+    pub location: String,
+    /// Common settings.
+    pub common: CommonConfig,
+    /// The engine's part.
+    pub engine: serde_yaml::Value,
+}
+
+/// Reads and checks a launch config: structure, node kinds, common settings, unique names.
+/// Engine parts are checked when each node starts.
+pub fn load(path: &Path, kinds: &[NodeKind]) -> Result<Vec<NodeEntry>, ConfigError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ConfigError { location: file.clone(), message: format!("cannot read: {e}") })?;
+    parse(&text, &file, kinds)
+}
+
+/// [`load`] on text (`file` names it in messages).
+pub fn parse(text: &str, file: &str, kinds: &[NodeKind]) -> Result<Vec<NodeEntry>, ConfigError> {
+    let root: serde_yaml::Value =
+        serde_yaml::from_str(text).map_err(|e| ConfigError { location: file.into(), message: e.to_string() })?;
+    let map = root
+        .as_mapping()
+        .ok_or_else(|| ConfigError { location: file.into(), message: "expected a mapping with key 'nodes'".into() })?;
+    for k in map.keys() {
+        if k.as_str() != Some("nodes") {
+            return Err(ConfigError {
+                location: format!("{file}: {}", k.as_str().unwrap_or("?")),
+                message: "unknown key (expected only 'nodes')".into(),
+            });
+        }
+    }
+    let nodes = map
+        .get("nodes")
+        .and_then(|n| n.as_sequence())
+        .ok_or_else(|| ConfigError { location: format!("{file}: nodes"), message: "missing or not a list".into() })?;
+    let mut out: Vec<NodeEntry> = Vec::new();
+    for (i, n) in nodes.iter().enumerate() {
+        let location = format!("{file}: nodes[{i}]");
+        let m = n
+            .as_mapping()
+            .ok_or_else(|| ConfigError { location: location.clone(), message: "expected a mapping".into() })?;
+        let kind_name = m.get("kind").and_then(|k| k.as_str()).ok_or_else(|| ConfigError {
+            location: format!("{location}.kind"),
+            message: "missing (one of axis_node, planar_node, pickplace_node)".into(),
+        })?;
+        let Some(kind) = kinds.iter().find(|k| k.kind == kind_name) else {
+            let known: Vec<&str> = kinds.iter().map(|k| k.kind).collect();
+            return Err(ConfigError {
+                location: format!("{location}.kind"),
+                message: format!("unknown node kind '{kind_name}' (known here: {})", known.join(", ")),
+            });
+        };
+        let location = format!("{location} ({kind_name})");
+        let (common, engine) = split_entry(m, kind.kind, &location)?;
+        if out.iter().any(|e| e.common.name == common.name && e.common.namespace == common.namespace) {
+            return Err(ConfigError {
+                location: format!("{location}.name"),
+                message: format!("node name '{}' is used twice", common.name),
+            });
+        }
+        out.push(NodeEntry { kind: kind.kind, location, common, engine });
+    }
+    Ok(out)
+}
+
+/// Command line of the launcher and of each node binary.
+#[derive(Debug, Default)]
+pub struct Args {
+    /// Launch config file.
+    pub config: Option<String>,
+    /// Stop after this many seconds (smoke tests); default: until Ctrl-C / SIGTERM.
+    pub duration: Option<f64>,
+    /// Only check the config, start nothing.
+    pub check: bool,
+}
+
+fn parse_args(usage: &str) -> Result<Args, String> {
+    let mut a = Args::default();
+    let mut it = std::env::args().skip(1);
+    while let Some(arg) = it.next() {
+        match arg.as_str() {
+            "--duration" => {
+                let v = it.next().ok_or("--duration needs seconds")?;
+                a.duration = Some(v.parse::<f64>().map_err(|_| format!("--duration: '{v}' is not a number"))?);
+            }
+            "--check" => a.check = true,
+            "-h" | "--help" => return Err(usage.to_string()),
+            s if s.starts_with('-') => return Err(format!("unknown option {s}\n{usage}")),
+            s => {
+                if a.config.replace(s.to_string()).is_some() {
+                    return Err(format!("only one config file\n{usage}"));
+                }
+            }
+        }
+    }
+    Ok(a)
+}
+
+/// The `main` of the launcher and of the node binaries: runs the entries of `kinds` found in
+/// the config (default `default_config`), until Ctrl-C/SIGTERM or `--duration`. Returns the
+/// process exit code (2 for configuration errors).
+pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32 {
+    crate::logging::init();
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check]\n  default config: {default_config}");
+    let args = match parse_args(&usage) {
+        Ok(a) => a,
+        Err(msg) => {
+            eprintln!("{msg}");
+            return 2;
+        }
+    };
+    let path = args.config.unwrap_or_else(|| default_config.to_string());
+    let entries = match load(Path::new(&path), kinds) {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("{program}: configuration error: {e}");
+            return 2;
+        }
+    };
+    if entries.is_empty() {
+        eprintln!("{program}: configuration error: {path}: no node of kind {} in 'nodes'", kind_list(kinds));
+        return 2;
+    }
+    let domain = match shell::domain_id_from_env() {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("{program}: configuration error: {e}");
+            return 2;
+        }
+    };
+    let rt = match tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build() {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("{program}: cannot start the async runtime: {e}");
+            return 1;
+        }
+    };
+    rt.block_on(async move {
+        let mut running = Vec::new();
+        for e in &entries {
+            let kind = kinds.iter().find(|k| k.kind == e.kind).expect("checked by load");
+            if args.check {
+                continue;
+            }
+            match (kind.start)(&e.common, e.engine.clone(), &e.location, domain) {
+                Ok(r) => running.push(r),
+                Err(err) => {
+                    eprintln!("{program}: {err}");
+                    return if matches!(err, StartError::Config(_)) { 2 } else { 1 };
+                }
+            }
+        }
+        if args.check {
+            println!("{path}: OK ({} nodes)", entries.len());
+            return 0;
+        }
+        tracing::info!("{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop", running.len());
+        wait_for_stop(args.duration).await;
+        drop(running);
+        0
+    })
+}
+
+fn kind_list(kinds: &[NodeKind]) -> String {
+    kinds.iter().map(|k| k.kind).collect::<Vec<_>>().join(", ")
+}
+
+async fn wait_for_stop(duration: Option<f64>) {
+    let timer = async {
+        match duration {
+            Some(s) => tokio::time::sleep(Duration::from_secs_f64(s.max(0.0))).await,
+            None => std::future::pending().await,
+        }
+    };
+    #[cfg(unix)]
+    let term = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let term = std::future::pending::<()>();
+    tokio::select! {
+        _ = tokio::signal::ctrl_c() => {}
+        _ = term => {}
+        _ = timer => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dummy(_: &CommonConfig, _: serde_yaml::Value, _: &str, _: u16) -> Result<RunningNode, StartError> {
+        Ok(Box::new(()))
+    }
+    const KINDS: &[NodeKind] = &[NodeKind { kind: "axis_node", start: dummy }];
+
+    #[test]
+    fn good_config_fills_defaults() {
+        let e = parse("nodes:\n  - kind: axis_node\n    axes: {}\n", "f.yaml", KINDS).unwrap();
+        assert_eq!(e.len(), 1);
+        assert_eq!(e[0].common.name, "axis_node");
+        assert_eq!(e[0].common.cycle_period, 0.001);
+        assert_eq!(e[0].common.state_rate, 100.0);
+        assert!(e[0].engine.get("axes").is_some());
+    }
+
+    #[test]
+    fn errors_name_file_key_and_problem() {
+        let cases = [
+            ("nodes:\n  - kind: axis_nod\n", "f.yaml: nodes[0].kind", "unknown node kind 'axis_nod'"),
+            ("nodes:\n  - kind: axis_node\n    cycle_period: -1\n", "cycle_period", "outside"),
+            ("nodes:\n  - kind: axis_node\n    cycle_period: .nan\n", "cycle_period", "outside"),
+            ("nodes:\n  - kind: axis_node\n    state_rate: 0\n", "state_rate", "outside"),
+            ("nodes:\n  - kind: axis_node\n    service_mapping: zenoh\n", "service_mapping", "not one of"),
+            ("nodes:\n  - kind: axis_node\n    lockstep: maybe\n", "nodes[0] (axis_node)", "lockstep"),
+            ("nodes:\n  - kind: axis_node\n  - kind: axis_node\n", "name", "used twice"),
+            ("node: []\n", "f.yaml: node", "unknown key"),
+            ("nodes: [\n", "f.yaml", "line 2"),
+        ];
+        for (text, loc, msg) in cases {
+            let e = parse(text, "f.yaml", KINDS).err().unwrap_or_else(|| panic!("accepted: {text}"));
+            let s = e.to_string();
+            assert!(e.location.contains(loc) || s.contains(loc), "{text:?}: location {s}");
+            assert!(s.contains(msg), "{text:?}: message {s}");
+        }
+    }
+}

@@ -1,0 +1,771 @@
+//! The shared ROS 2 shell of every node: participant on loopback, node with parameters and
+//! rosout, services and actions with the PLCopen handshake, state publishers, command status,
+//! `/diagnostics`, `/clock` and the lockstep `~/step` service.
+//!
+//! API rules (README "ROS API"): one service or action call = one Execute rising edge of a
+//! fresh FB instance. A service answers accepted/rejected at once with an error id; the
+//! command's outputs then appear on `~/command_status`. An action goal runs until the command
+//! ends: feedback while busy, result Done (Succeeded) / CommandAborted (Aborted, or Canceled
+//! after a cancel) / Error (Aborted, with the error id in the result).
+
+use crate::cycle::{ControllerHandle, Stamped};
+use crate::stats::CycleStats;
+use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, Rejection};
+use motion_msgs::deps::builtin_interfaces::msg::Time;
+use motion_msgs::deps::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus, KeyValue};
+use motion_msgs::deps::rosgraph_msgs::msg::Clock;
+use motion_msgs::deps::std_msgs::msg::Header;
+use motion_msgs::msg::CommandStatus;
+use motion_msgs::srv::{StepCycles, StepCyclesRequest, StepCyclesResponse};
+use ros2_client::action::{ActionServerQosPolicies, AsyncActionServer, GoalEndStatus};
+use ros2_client::{
+    ActionTypeName, Context, Message, MessageTypeName, Name, Node, NodeName, NodeOptions,
+    ParameterValue, QosProfile, ServiceMapping, ServiceTypeName,
+};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fmt;
+use std::future::Future;
+use std::net::Ipv4Addr;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+use tokio::sync::mpsc::UnboundedReceiver;
+use tokio::task::JoinHandle;
+
+/// Errors while setting up a node's ROS side (the process reports them and exits non-zero).
+#[derive(Debug)]
+pub struct ShellError(pub String);
+
+impl fmt::Display for ShellError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ShellError {}
+
+fn err<E: fmt::Debug>(what: &str) -> impl FnOnce(E) -> ShellError + '_ {
+    move |e| ShellError(format!("{what}: {e:?}"))
+}
+
+/// Which addresses DDS discovery may use (`ROS_AUTOMATIC_DISCOVERY_RANGE`, as in ROS 2 Jazzy).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiscoveryRange {
+    /// Default: loopback only (127.0.0.1). Nothing leaves the machine.
+    Localhost,
+    /// Explicit opt-in (`ROS_AUTOMATIC_DISCOVERY_RANGE=SUBNET`): all interfaces.
+    Subnet,
+}
+
+impl DiscoveryRange {
+    /// Reads `ROS_AUTOMATIC_DISCOVERY_RANGE`; anything but `SUBNET` keeps loopback only.
+    pub fn from_env() -> Self {
+        match std::env::var("ROS_AUTOMATIC_DISCOVERY_RANGE").as_deref() {
+            Ok("SUBNET") => DiscoveryRange::Subnet,
+            _ => DiscoveryRange::Localhost,
+        }
+    }
+}
+
+/// `ROS_DOMAIN_ID` (default 0). Values outside 0..=232 are a configuration error.
+pub fn domain_id_from_env() -> Result<u16, ShellError> {
+    match std::env::var("ROS_DOMAIN_ID") {
+        Err(_) => Ok(0),
+        Ok(s) if s.trim().is_empty() => Ok(0),
+        Ok(s) => match s.trim().parse::<u16>() {
+            Ok(d) if d <= 232 => Ok(d),
+            _ => Err(ShellError(format!("ROS_DOMAIN_ID: '{s}' is not a domain id (0..232)"))),
+        },
+    }
+}
+
+/// The request/reply mapping: the `service_mapping` parameter (`cyclone`, `enhanced`, `basic`)
+/// when given, else from `RMW_IMPLEMENTATION` as ROS users set it (rmw_cyclonedds_cpp ->
+/// Cyclone; anything else, or unset as in Jazzy's default Fast DDS -> Enhanced).
+pub fn service_mapping(param: Option<&str>) -> Result<ServiceMapping, ShellError> {
+    match param.map(str::trim) {
+        Some("cyclone") => Ok(ServiceMapping::Cyclone),
+        Some("enhanced") => Ok(ServiceMapping::Enhanced),
+        Some("basic") => Ok(ServiceMapping::Basic),
+        Some("") | Some("auto") | None => {
+            Ok(match std::env::var("RMW_IMPLEMENTATION").as_deref() {
+                Ok("rmw_cyclonedds_cpp") => ServiceMapping::Cyclone,
+                _ => ServiceMapping::Enhanced,
+            })
+        }
+        Some(other) => Err(ShellError(format!(
+            "service_mapping: '{other}' is not one of auto, cyclone, enhanced, basic"
+        ))),
+    }
+}
+
+/// One DDS participant (and ROS Context) per node, loopback-only unless the user opted in.
+pub fn create_context(domain_id: u16) -> Result<Context, ShellError> {
+    let mut b = rustdds::DomainParticipantBuilder::new(domain_id);
+    if DiscoveryRange::from_env() == DiscoveryRange::Localhost {
+        b = b.with_only_networks([Ipv4Addr::LOCALHOST]);
+    }
+    let dp = b.build().map_err(err("creating the DDS participant"))?;
+    Context::from_domain_participant(dp).map_err(err("creating the ROS context"))
+}
+
+/// Settings of the ROS side of one node.
+#[derive(Clone, Debug)]
+pub struct ShellSettings {
+    /// Node name (e.g. `axis_node`).
+    pub node_name: String,
+    /// Namespace (default `/`).
+    pub namespace: String,
+    /// Request/reply mapping of every server of this node.
+    pub service_mapping: ServiceMapping,
+    /// Rate of the state topics [Hz] (default 100).
+    pub state_rate: f64,
+    /// Lockstep mode: publish `/clock` and offer `~/step`.
+    pub lockstep: bool,
+}
+
+/// Names of the command behind a [`CmdId`], for `~/command_status`.
+#[derive(Clone, Debug, Default)]
+pub struct CommandLabel {
+    /// Axis, mover, group, part or belt name.
+    pub object: String,
+    /// FB name in snake_case.
+    pub command: String,
+}
+
+/// Maps command ids to their labels until the command ends.
+#[derive(Default)]
+pub struct CommandRegistry {
+    labels: Mutex<HashMap<CmdId, CommandLabel>>,
+}
+
+impl CommandRegistry {
+    /// Remembers a command's label.
+    pub fn insert(&self, id: CmdId, label: CommandLabel) {
+        self.labels.lock().unwrap_or_else(|e| e.into_inner()).insert(id, label);
+    }
+    fn label(&self, ev: &CommandEvent) -> CommandLabel {
+        let mut m = self.labels.lock().unwrap_or_else(|e| e.into_inner());
+        if ev.state.is_final() {
+            m.remove(&ev.id).unwrap_or_default()
+        } else {
+            m.get(&ev.id).cloned().unwrap_or_default()
+        }
+    }
+}
+
+/// What an engine's shell tells the runtime about error texts and command ids.
+pub trait EngineShell: Engine {
+    /// The command id inside an accepted reply, if the command has a lifetime.
+    fn reply_id(reply: &Self::Reply) -> Option<CmdId>;
+    /// A short text for an error id that arises during execution (after the Execute edge).
+    fn error_text(id: ErrorId) -> String {
+        format!("error {id}")
+    }
+}
+
+/// A node's ROS side: the node, the controller handle, and the tasks serving it.
+pub struct NodeShell<E: EngineShell> {
+    /// The ROS node (one Context per node).
+    pub node: Node,
+    /// The cycle's handle.
+    pub handle: ControllerHandle<E>,
+    /// Settings.
+    pub settings: ShellSettings,
+    /// Labels of running commands.
+    pub registry: Arc<CommandRegistry>,
+    tasks: Vec<JoinHandle<()>>,
+}
+
+/// Current ROS time of the node as a message stamp.
+pub fn stamp_of(node: &Node) -> Time {
+    let nanos = node.time_now().to_nanos();
+    Time { sec: nanos.div_euclid(1_000_000_000) as i32, nanosec: nanos.rem_euclid(1_000_000_000) as u32 }
+}
+
+/// A stamp from simulated seconds.
+pub fn stamp_from_secs(t: f64) -> Time {
+    let nanos = (t * 1e9).round() as i64;
+    Time { sec: nanos.div_euclid(1_000_000_000) as i32, nanosec: nanos.rem_euclid(1_000_000_000) as u32 }
+}
+
+/// The absolute ROS name of a private (`~/rel`) name of this node.
+pub fn private_name(settings: &ShellSettings, rel: &str) -> Result<Name, ShellError> {
+    let ns = settings.namespace.trim_end_matches('/');
+    let full = format!("{ns}/{}/{rel}", settings.node_name);
+    Name::parse(&full).map_err(err("name"))
+}
+
+fn absolute_name(full: &str) -> Result<Name, ShellError> {
+    Name::parse(full).map_err(err("name"))
+}
+
+/// QoS of services and the goal/cancel/result services of actions (ROS 2 defaults).
+pub fn service_qos() -> QosProfile {
+    use ros2_client::qos::{Durability, History};
+    QosProfile::publisher_default()
+        .durability(Durability::Volatile)
+        .history(History::KeepLast { depth: 10 })
+}
+
+/// QoS of state topics (reliable, volatile, keep last 10: the ROS 2 default profile).
+pub fn topic_qos() -> QosProfile {
+    use ros2_client::qos::{Durability, History};
+    QosProfile::publisher_default()
+        .durability(Durability::Volatile)
+        .history(History::KeepLast { depth: 10 })
+}
+
+fn action_qos() -> ActionServerQosPolicies {
+    use ros2_client::qos::{Durability, History};
+    let status = QosProfile::publisher_default()
+        .history(History::KeepLast { depth: 1 })
+        .durability(Durability::TransientLocal);
+    ActionServerQosPolicies {
+        goal_service: service_qos(),
+        result_service: service_qos(),
+        cancel_service: service_qos(),
+        feedback_publisher: topic_qos(),
+        status_publisher: status,
+    }
+}
+
+impl<E: EngineShell> NodeShell<E>
+where
+    E::Command: Send,
+{
+    /// Creates the node in `context` with rosout and parameter services, and the declared
+    /// read-only parameters (e.g. `cycle_period`, `state_rate`, per-object settings).
+    pub fn new(
+        context: &Context,
+        settings: ShellSettings,
+        handle: ControllerHandle<E>,
+        parameters: Vec<(String, ParameterValue)>,
+    ) -> Result<Self, ShellError> {
+        let mut opts = NodeOptions::new().enable_rosout(true).start_parameter_services(true);
+        let read_only: Arc<Vec<String>> = Arc::new(parameters.iter().map(|(n, _)| n.clone()).collect());
+        for (n, v) in parameters {
+            opts = opts.declare_parameter(&n, v);
+        }
+        let ro = read_only.clone();
+        opts = opts.parameter_validator(Box::new(move |name: &str, _v: &ParameterValue| {
+            if ro.iter().any(|n| n == name) {
+                Err(format!("parameter '{name}' is read-only at run time (set it in the launch config)"))
+            } else {
+                Ok(())
+            }
+        }));
+        let name = NodeName::new(&settings.namespace, &settings.node_name).map_err(err("node name"))?;
+        let node = context.new_node(name, opts).map_err(err("creating the node"))?;
+        Ok(NodeShell { node, handle, settings, registry: Arc::new(CommandRegistry::default()), tasks: Vec::new() })
+    }
+
+    /// Starts the spinner and the tasks every node has: `~/command_status`, `/diagnostics`
+    /// (1 Hz), and in lockstep mode `/clock` and `~/step`.
+    pub fn start_common(&mut self, events: UnboundedReceiver<CommandEvent>) -> Result<(), ShellError> {
+        let spinner = self.node.spinner().map_err(err("spinner"))?;
+        self.tasks.push(tokio::spawn(async move {
+            if let Err(e) = spinner.spin().await {
+                tracing::error!("spinner stopped: {e:?}");
+            }
+        }));
+        self.spawn_command_status(events)?;
+        self.spawn_diagnostics()?;
+        if self.settings.lockstep {
+            self.spawn_clock()?;
+            self.spawn_step_service()?;
+        }
+        Ok(())
+    }
+
+    fn spawn_command_status(&mut self, mut events: UnboundedReceiver<CommandEvent>) -> Result<(), ShellError> {
+        let topic = self
+            .node
+            .create_topic(
+                &private_name(&self.settings, "command_status")?,
+                CommandStatus::type_name(),
+                &topic_qos(),
+            )
+            .map_err(err("topic"))?;
+        let publisher = self.node.create_publisher::<CommandStatus>(&topic, None).map_err(err("publisher"))?;
+        let registry = self.registry.clone();
+        let handle = self.handle.clone();
+        self.tasks.push(tokio::spawn(async move {
+            while let Some(ev) = events.recv().await {
+                let label = registry.label(&ev);
+                let o = motion_core::ExecuteOutputs::from(ev.state);
+                let msg = CommandStatus {
+                    stamp: stamp_from_secs(handle.snapshot().sim_time),
+                    command_id: ev.id.0,
+                    object: label.object,
+                    command: label.command,
+                    busy: o.busy,
+                    active: o.active,
+                    done: o.done,
+                    command_aborted: o.command_aborted,
+                    error: o.error,
+                    error_id: o.error_id.0,
+                    message: if o.error { E::error_text(o.error_id) } else { String::new() },
+                };
+                if let Err(e) = publisher.async_publish(msg).await {
+                    tracing::warn!("command_status publish failed: {e:?}");
+                }
+            }
+        }));
+        Ok(())
+    }
+
+    fn spawn_diagnostics(&mut self) -> Result<(), ShellError> {
+        let topic = self
+            .node
+            .create_topic(&absolute_name("/diagnostics")?, DiagnosticArray::type_name(), &topic_qos())
+            .map_err(err("topic"))?;
+        let publisher = self.node.create_publisher::<DiagnosticArray>(&topic, None).map_err(err("publisher"))?;
+        let handle = self.handle.clone();
+        let node_name = self.settings.node_name.clone();
+        self.tasks.push(tokio::spawn(async move {
+            let mut tick = tokio::time::interval(Duration::from_secs(1));
+            loop {
+                tick.tick().await;
+                let stats = handle.stats();
+                let msg = diagnostics_message(&node_name, &stats, stamp_from_wall());
+                if let Err(e) = publisher.async_publish(msg).await {
+                    tracing::warn!("diagnostics publish failed: {e:?}");
+                }
+            }
+        }));
+        Ok(())
+    }
+
+    fn spawn_clock(&mut self) -> Result<(), ShellError> {
+        let topic = self
+            .node
+            .create_topic(&absolute_name("/clock")?, Clock::type_name(), &topic_qos())
+            .map_err(err("topic"))?;
+        let publisher = self.node.create_publisher::<Clock>(&topic, None).map_err(err("publisher"))?;
+        let mut snaps = self.handle.snapshots();
+        self.tasks.push(tokio::spawn(async move {
+            while snaps.changed().await.is_ok() {
+                let t = snaps.borrow_and_update().sim_time;
+                let _ = publisher.async_publish(Clock { clock: stamp_from_secs(t) }).await;
+            }
+        }));
+        Ok(())
+    }
+
+    fn spawn_step_service(&mut self) -> Result<(), ShellError> {
+        let handle = self.handle.clone();
+        let period = handle.config().period;
+        self.service::<StepCyclesRequest, StepCyclesResponse, _, _>(
+            "step",
+            StepCycles::service_type_name(),
+            move |req: StepCyclesRequest| {
+                let handle = handle.clone();
+                async move {
+                    match handle.step(u64::from(req.cycles)).await {
+                        Ok(c) => StepCyclesResponse {
+                            accepted: true,
+                            error_id: 0,
+                            message: String::new(),
+                            cycle_index: c,
+                            sim_time: c as f64 * period,
+                        },
+                        Err(r) => StepCyclesResponse {
+                            accepted: false,
+                            error_id: r.error_id.0,
+                            message: r.message,
+                            cycle_index: 0,
+                            sim_time: 0.0,
+                        },
+                    }
+                }
+            },
+        )
+    }
+
+    /// Serves `~/<name>`: each request is handled in its own task, so a slow call never delays
+    /// another one.
+    pub fn service<Req, Resp, F, Fut>(
+        &mut self,
+        name: &str,
+        type_name: ServiceTypeName,
+        handler: F,
+    ) -> Result<(), ShellError>
+    where
+        Req: Message + Clone + Send + Sync + 'static,
+        Resp: Message + Send + Sync + 'static,
+        F: Fn(Req) -> Fut + Send + Sync + 'static,
+        Fut: Future<Output = Resp> + Send + 'static,
+    {
+        let server = self
+            .node
+            .create_server::<Req, Resp>(
+                self.settings.service_mapping,
+                &private_name(&self.settings, name)?,
+                &type_name,
+                service_qos(),
+                service_qos(),
+            )
+            .map_err(err("service server"))?;
+        let server = Arc::new(server);
+        let handler = Arc::new(handler);
+        let sname = name.to_string();
+        self.tasks.push(tokio::spawn(async move {
+            loop {
+                match server.async_receive_request().await {
+                    Ok((id, req)) => {
+                        let server = server.clone();
+                        let handler = handler.clone();
+                        let sname = sname.clone();
+                        tokio::spawn(async move {
+                            let resp = handler(req).await;
+                            if let Err(e) = server.async_send_response(id, resp).await {
+                                tracing::warn!("{sname}: sending the response failed: {e:?}");
+                            }
+                        });
+                    }
+                    Err(e) => tracing::warn!("{sname}: bad request: {e:?}"),
+                }
+            }
+        }));
+        Ok(())
+    }
+
+    /// Serves an Execute-edge command as a service: `decode` screens the request and builds the
+    /// engine command (a rejection answers at once), `respond` builds the response.
+    pub fn command_service<Req, Resp>(
+        &mut self,
+        name: &str,
+        type_name: ServiceTypeName,
+        decode: fn(Req) -> Result<(E::Command, CommandLabel), Rejection>,
+        respond: fn(Result<E::Reply, Rejection>) -> Resp,
+    ) -> Result<(), ShellError>
+    where
+        Req: Message + Clone + Send + Sync + 'static,
+        Resp: Message + Send + Sync + 'static,
+        E::Reply: Send,
+    {
+        let handle = self.handle.clone();
+        let registry = self.registry.clone();
+        self.service::<Req, Resp, _, _>(name, type_name, move |req: Req| {
+            let handle = handle.clone();
+            let registry = registry.clone();
+            async move {
+                let result = match decode(req) {
+                    Err(r) => Err(r),
+                    Ok((cmd, label)) => {
+                        let r = handle.call(cmd).await;
+                        if let Ok(reply) = &r {
+                            if let Some(id) = E::reply_id(reply) {
+                                registry.insert(id, label);
+                            }
+                        }
+                        r
+                    }
+                };
+                respond(result)
+            }
+        })
+    }
+
+    /// Serves a motion command as an action (see the module doc for the mapping).
+    pub fn action<B: ActionBinding<E>>(&mut self, name: &str, binding: B) -> Result<(), ShellError> {
+        let server = self
+            .node
+            .create_action_server::<B::Goal, B::Result, B::Feedback>(
+                self.settings.service_mapping,
+                &private_name(&self.settings, name)?,
+                &B::action_type_name(),
+                action_qos(),
+            )
+            .map_err(err("action server"))?;
+        let server = Arc::new(AsyncActionServer::new(server));
+        let binding = Arc::new(binding);
+        let goals: Arc<Mutex<BTreeMap<ros2_client::action::GoalId, CmdId>>> = Arc::default();
+        // Goals whose cancel was accepted: they end as Canceled when the command is aborted.
+        let canceled: Arc<Mutex<BTreeSet<ros2_client::action::GoalId>>> = Arc::default();
+        // One result at a time: ros2-client reads result requests from one stream.
+        let result_lock = Arc::new(tokio::sync::Mutex::new(()));
+        let feedback_period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(1.0));
+
+        // Cancel requests: the engine applies the command's halt semantics; the goal then
+        // ends as Canceled when the engine reports the command aborted.
+        {
+            let server = server.clone();
+            let goals = goals.clone();
+            let canceled = canceled.clone();
+            let handle = self.handle.clone();
+            let aname = name.to_string();
+            self.tasks.push(tokio::spawn(async move {
+                loop {
+                    let cancel = match server.receive_cancel_request().await {
+                        Ok(c) => c,
+                        Err(e) => {
+                            tracing::warn!("{aname}: bad cancel request: {e:?}");
+                            continue;
+                        }
+                    };
+                    let targets: Vec<(ros2_client::action::GoalId, CmdId)> = {
+                        let g = goals.lock().unwrap_or_else(|e| e.into_inner());
+                        cancel.goals().filter_map(|gid| g.get(&gid).map(|c| (gid, *c))).collect()
+                    };
+                    let mut accepted = Vec::new();
+                    for (gid, cid) in targets {
+                        match handle.cancel(cid).await {
+                            Ok(()) => {
+                                canceled.lock().unwrap_or_else(|e| e.into_inner()).insert(gid);
+                                accepted.push(gid)
+                            }
+                            Err(r) => tracing::warn!("{aname}: cancel of command {} refused: {r}", cid.0),
+                        }
+                    }
+                    if let Err(e) = server.respond_to_cancel_requests(&cancel, accepted.into_iter()).await {
+                        tracing::warn!("{aname}: cancel response failed: {e:?}");
+                    }
+                }
+            }));
+        }
+
+        let handle = self.handle.clone();
+        let registry = self.registry.clone();
+        let aname = name.to_string();
+        self.tasks.push(tokio::spawn(async move {
+            loop {
+                let new_goal = match server.receive_new_goal().await {
+                    Ok(g) => g,
+                    Err(e) => {
+                        tracing::warn!("{aname}: bad goal request: {e:?}");
+                        continue;
+                    }
+                };
+                let Some(goal) = server.get_new_goal(new_goal.clone()) else { continue };
+                let server = server.clone();
+                let binding = binding.clone();
+                let handle = handle.clone();
+                let registry = registry.clone();
+                let goals = goals.clone();
+                let canceled = canceled.clone();
+                let result_lock = result_lock.clone();
+                let aname = aname.clone();
+                tokio::spawn(async move {
+                    let goal_id = new_goal.goal_id();
+                    let accepted = match server.accept_goal(new_goal).await {
+                        Ok(a) => a,
+                        Err(e) => {
+                            tracing::warn!("{aname}: accepting goal failed: {e:?}");
+                            return;
+                        }
+                    };
+                    let executing = match server.start_executing_goal(accepted).await {
+                        Ok(x) => x,
+                        Err(e) => {
+                            tracing::warn!("{aname}: executing goal failed: {e:?}");
+                            return;
+                        }
+                    };
+                    let (status, result) =
+                        run_goal(&*binding, &goal, goal_id, &handle, &registry, &goals, &canceled, &server, executing.clone(), feedback_period)
+                            .await;
+                    goals.lock().unwrap_or_else(|e| e.into_inner()).remove(&goal_id);
+                    let _guard = result_lock.lock().await;
+                    match tokio::time::timeout(
+                        Duration::from_secs(60),
+                        server.send_result_response(executing, status, result),
+                    )
+                    .await
+                    {
+                        Ok(Ok(())) => {}
+                        Ok(Err(e)) => tracing::warn!("{aname}: sending the result failed: {e:?}"),
+                        Err(_) => tracing::warn!("{aname}: no client asked for the result within 60 s"),
+                    }
+                });
+            }
+        }));
+        Ok(())
+    }
+
+    /// Publishes messages built from the latest snapshot at the state rate (only when the
+    /// snapshot changed, i.e. the cycle ran). `build` returns one message per publisher.
+    pub fn state_publisher<M, F>(
+        &mut self,
+        topic: &str,
+        type_name: MessageTypeName,
+        build: F,
+    ) -> Result<(), ShellError>
+    where
+        M: Message + fmt::Debug + Send + Sync + 'static,
+        F: Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
+    {
+        let name = if topic.starts_with('/') { absolute_name(topic)? } else { private_name(&self.settings, topic)? };
+        let t = self.node.create_topic(&name, type_name, &topic_qos()).map_err(err("topic"))?;
+        let publisher = self.node.create_publisher::<M>(&t, None).map_err(err("publisher"))?;
+        let handle = self.handle.clone();
+        let period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(0.1));
+        self.tasks.push(tokio::spawn(async move {
+            let mut tick = tokio::time::interval(period);
+            tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+            let mut last = u64::MAX;
+            loop {
+                tick.tick().await;
+                let snap = handle.snapshot();
+                if snap.cycle == last {
+                    continue;
+                }
+                last = snap.cycle;
+                let msg = build(&snap);
+                if let Err(e) = publisher.async_publish(msg).await {
+                    tracing::warn!("state publish failed: {e:?}");
+                }
+            }
+        }));
+        Ok(())
+    }
+
+    /// Keeps the node alive until the tasks end (they end when the process does).
+    pub async fn run(mut self) {
+        for t in std::mem::take(&mut self.tasks) {
+            let _ = t.await;
+        }
+    }
+
+    /// Stops the node's tasks (drops servers and publishers before the Context).
+    pub fn abort(&mut self) {
+        for t in &self.tasks {
+            t.abort();
+        }
+        self.node.stop_spinner();
+    }
+}
+
+impl<E: EngineShell> Drop for NodeShell<E> {
+    fn drop(&mut self) {
+        for t in &self.tasks {
+            t.abort();
+        }
+    }
+}
+
+/// How one action maps goal, feedback and result onto an engine command.
+pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
+    /// Goal message.
+    type Goal: Message + Clone + Send + Sync + 'static;
+    /// Result message.
+    type Result: Message + Clone + Send + Sync + 'static;
+    /// Feedback message.
+    type Feedback: Message + Send + Sync + 'static;
+    /// The ROS action type name.
+    fn action_type_name() -> ActionTypeName;
+    /// Screens the goal and builds the command (the Execute edge) and its label.
+    fn command(&self, goal: &Self::Goal) -> Result<(E::Command, CommandLabel), Rejection>;
+    /// Feedback from the latest snapshot while the command is busy.
+    fn feedback(&self, goal: &Self::Goal, snap: &Stamped<E::Snapshot>, state: CommandState) -> Self::Feedback;
+    /// The result: `end` is the final state; `rejection` is set when the command was refused.
+    fn result(
+        &self,
+        goal: &Self::Goal,
+        snap: &Stamped<E::Snapshot>,
+        end: CommandState,
+        rejection: Option<&Rejection>,
+    ) -> Self::Result;
+}
+
+#[allow(clippy::too_many_arguments)]
+async fn run_goal<E: EngineShell, B: ActionBinding<E>>(
+    binding: &B,
+    goal: &B::Goal,
+    goal_id: ros2_client::action::GoalId,
+    handle: &ControllerHandle<E>,
+    registry: &CommandRegistry,
+    goals: &Mutex<BTreeMap<ros2_client::action::GoalId, CmdId>>,
+    canceled: &Mutex<BTreeSet<ros2_client::action::GoalId>>,
+    server: &AsyncActionServer<B::Goal, B::Result, B::Feedback>,
+    executing: ros2_client::action::ExecutingGoalHandle<B::Goal>,
+    feedback_period: Duration,
+) -> (GoalEndStatus, B::Result) {
+    let refused = |r: Rejection| {
+        let end = CommandState::Error(r.error_id);
+        (GoalEndStatus::Aborted, binding.result(goal, &handle.snapshot(), end, Some(&r)))
+    };
+    let (cmd, label) = match binding.command(goal) {
+        Ok(c) => c,
+        Err(r) => return refused(r),
+    };
+    let (reply, mut events) = match handle.call_watched(cmd).await {
+        Ok(x) => x,
+        Err(r) => return refused(r),
+    };
+    let Some(id) = E::reply_id(&reply) else {
+        // An instantaneous command: done at its edge.
+        return (GoalEndStatus::Succeeded, binding.result(goal, &handle.snapshot(), CommandState::Done, None));
+    };
+    registry.insert(id, label);
+    goals.lock().unwrap_or_else(|e| e.into_inner()).insert(goal_id, id);
+    let mut state = CommandState::Busy;
+    let mut tick = tokio::time::interval(feedback_period);
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    let end = loop {
+        tokio::select! {
+            ev = events.recv() => match ev {
+                Some(ev) => {
+                    state = ev.state;
+                    if state.is_final() {
+                        break state;
+                    }
+                }
+                None => break CommandState::Error(ErrorId::NOT_RUNNING),
+            },
+            _ = tick.tick() => {
+                let fb = binding.feedback(goal, &handle.snapshot(), state);
+                let _ = server.publish_feedback(executing.clone(), fb).await;
+            }
+        }
+    };
+    // Let the snapshot catch up with the final cycle before building the result.
+    let result = binding.result(goal, &handle.snapshot(), end, None);
+    let status = match end {
+        CommandState::Done => GoalEndStatus::Succeeded,
+        CommandState::Aborted if canceled.lock().unwrap_or_else(|e| e.into_inner()).remove(&goal_id) => {
+            GoalEndStatus::Canceled
+        }
+        _ => GoalEndStatus::Aborted,
+    };
+    (status, result)
+}
+
+/// `/diagnostics` message of a node's cycle statistics.
+pub fn diagnostics_message(node: &str, s: &CycleStats, stamp: Time) -> DiagnosticArray {
+    let us = |v: f64| format!("{:.1}", v * 1e6);
+    let level = if s.overruns > 0 { DiagnosticStatus::WARN } else { DiagnosticStatus::OK };
+    let message = if s.overruns > 0 {
+        format!("{} overruns in {} cycles", s.overruns, s.cycles)
+    } else {
+        "cycle on time".to_string()
+    };
+    let kv = |k: &str, v: String| KeyValue { key: k.to_string(), value: v };
+    DiagnosticArray {
+        header: Header { stamp, frame_id: String::new() },
+        status: vec![DiagnosticStatus {
+            level,
+            name: format!("{node}: cycle"),
+            message,
+            hardware_id: node.to_string(),
+            values: vec![
+                kv("period_us", us(s.period)),
+                kv("lockstep", s.lockstep.to_string()),
+                kv("cycles", s.cycles.to_string()),
+                kv("overruns", s.overruns.to_string()),
+                kv("exec_mean_us", us(s.exec_mean)),
+                kv("exec_p99_us", us(s.exec_p99)),
+                kv("exec_max_us", us(s.exec_max)),
+                kv("jitter_mean_us", us(s.jitter_mean)),
+                kv("jitter_p50_us", us(s.jitter_p50)),
+                kv("jitter_p99_us", us(s.jitter_p99)),
+                kv("jitter_max_us", us(s.jitter_max)),
+            ],
+        }],
+    }
+}
+
+fn stamp_from_wall() -> Time {
+    let d = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
+    Time { sec: d.as_secs() as i32, nanosec: d.subsec_nanos() }
+}
