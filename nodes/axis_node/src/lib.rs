@@ -1,1 +1,94 @@
-//! (being built)
+//! `axis_node`: PLCopen single axes (Tc2_MC2) over ROS 2.
+//!
+//! The engine ([`axis_engine`]) does the semantics; this crate maps ROS requests onto its
+//! commands and its snapshots onto topics (README "ROS API"):
+//! - services `~/power`, `~/reset`, `~/move_absolute`, `~/move_relative`, `~/move_additive`,
+//!   `~/move_velocity`, `~/halt`, `~/stop`, `~/set_position`, `~/read_parameter`,
+//!   `~/write_parameter`, simulation hooks `~/sim/inject_error`;
+//! - actions `~/move_absolute`, `~/move_relative`, `~/move_velocity` (cancel = MC_Halt);
+//! - topics `~/axis_states` (motion_msgs/AxisStateArray), `joint_states`
+//!   (sensor_msgs/JointState), `~/command_status`, `/diagnostics`.
+
+mod actions;
+mod convert;
+mod services;
+
+use axis_engine::{AxisConfig, AxisEngine};
+use motion_runtime::host::{from_value, CommonConfig, ConfigError};
+use motion_runtime::launch::{RunningNode, StartError};
+use motion_runtime::{NodeHost, NodeKind, NodeShell, ShellError};
+use ros2_client::ParameterValue;
+
+/// The node kind in launch configs.
+pub const KIND: &str = "axis_node";
+
+/// The launcher's entry for this node.
+pub const NODE_KIND: NodeKind = NodeKind { kind: KIND, start: start_boxed };
+
+/// The engine part of an `axis_node` entry of a launch config.
+#[derive(Clone, Debug, Default)]
+pub struct AxisNodeConfig {
+    /// Axes in configuration order: name and parameters (single_axis.md §1.2 defaults).
+    pub axes: Vec<(String, AxisConfig)>,
+}
+
+impl AxisNodeConfig {
+    /// Reads `axes: { <name>: { <parameter>: value, ... }, ... }` (order kept).
+    pub fn from_yaml(v: serde_yaml::Value, location: &str) -> Result<Self, ConfigError> {
+        let bad = |key: &str, msg: &str| ConfigError { location: format!("{location}.{key}"), message: msg.into() };
+        let map = match v {
+            serde_yaml::Value::Mapping(m) => m,
+            serde_yaml::Value::Null => serde_yaml::Mapping::new(),
+            _ => return Err(bad("", "expected a mapping")),
+        };
+        let mut axes = Vec::new();
+        for (k, val) in map {
+            match k.as_str() {
+                Some("axes") => {
+                    let m = val.as_mapping().ok_or_else(|| bad("axes", "expected a mapping of axis names"))?;
+                    for (name, cfg) in m {
+                        let name = name.as_str().ok_or_else(|| bad("axes", "axis names must be strings"))?;
+                        let cfg = if cfg.is_null() { serde_yaml::Value::Mapping(Default::default()) } else { cfg.clone() };
+                        let c: AxisConfig = from_value(cfg, &format!("{location}.axes.{name}"))?;
+                        axes.push((name.to_string(), c));
+                    }
+                }
+                Some(other) => return Err(bad(other, "unknown key (axis_node takes: axes)")),
+                None => return Err(bad("?", "keys must be strings")),
+            }
+        }
+        if axes.is_empty() {
+            return Err(bad("axes", "no axis configured"));
+        }
+        Ok(AxisNodeConfig { axes })
+    }
+}
+
+/// A running axis node.
+pub type AxisNode = NodeHost<AxisEngine>;
+
+/// Starts an axis node from its launch-config entry.
+pub fn start(
+    common: &CommonConfig,
+    engine_cfg: serde_yaml::Value,
+    location: &str,
+    domain_id: u16,
+) -> Result<AxisNode, StartError> {
+    let cfg = AxisNodeConfig::from_yaml(engine_cfg, location)?;
+    let names: Vec<String> = cfg.axes.iter().map(|(n, _)| n.clone()).collect();
+    let engine = AxisEngine::new(cfg.axes.clone())
+        .map_err(|r| ConfigError { location: format!("{location}.axes"), message: r.message })?;
+    let params = vec![("axes".to_string(), ParameterValue::StringArray(names.clone()))];
+    Ok(NodeHost::start(KIND, common, domain_id, engine, params, |shell| setup(shell, names))?)
+}
+
+fn start_boxed(c: &CommonConfig, v: serde_yaml::Value, loc: &str, d: u16) -> Result<RunningNode, StartError> {
+    Ok(Box::new(start(c, v, loc, d)?))
+}
+
+fn setup(shell: &mut NodeShell<AxisEngine>, names: Vec<String>) -> Result<(), ShellError> {
+    services::register(shell)?;
+    actions::register(shell)?;
+    convert::register_topics(shell, names)?;
+    Ok(())
+}

@@ -1,5 +1,6 @@
 //! The contract between an engine and the cycle that drives it.
 
+use crate::error_id::ErrorId;
 use crate::fb::{CmdId, CommandEvent, Rejection};
 
 /// One cycle handed to an engine. Time never comes from a clock inside an engine.
@@ -45,5 +46,18 @@ pub trait Engine: Send + 'static {
     /// the engine applies the manual's halt semantics for it. Default: nothing to do.
     fn cancel(&mut self, _id: CmdId) -> Result<(), Rejection> {
         Ok(())
+    }
+
+    /// The command id inside an accepted reply when the command has a lifetime (its
+    /// [`CommandEvent`]s follow); `None` for instantaneous commands. The ROS shell routes
+    /// events to the caller (action goal) with it.
+    fn reply_id(_reply: &Self::Reply) -> Option<CmdId> {
+        None
+    }
+
+    /// A short text for an error id that arises during execution (after the Execute edge),
+    /// published with the command status.
+    fn error_text(id: ErrorId) -> String {
+        format!("error {id}")
     }
 }

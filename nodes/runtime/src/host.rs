@@ -2,7 +2,8 @@
 //! its ROS shell, kept alive together and shut down in the right order.
 
 use crate::cycle::{ClockMode, Controller, ControllerHandle, CycleConfig};
-use crate::shell::{self, EngineShell, NodeShell, ShellError, ShellSettings};
+use crate::shell::{self, NodeShell, ShellError, ShellSettings};
+use motion_core::Engine;
 use ros2_client::{Context, ParameterValue};
 use serde::Deserialize;
 use std::fmt;
@@ -173,7 +174,7 @@ pub fn from_value<T: serde::de::DeserializeOwned>(v: serde_yaml::Value, location
 }
 
 /// One running node: Context, cycle and ROS shell. Dropping it stops the node in order.
-pub struct NodeHost<E: EngineShell> {
+pub struct NodeHost<E: Engine> {
     /// The ROS side (dropped first).
     pub shell: Option<NodeShell<E>>,
     /// The cycle (dropped second).
@@ -182,7 +183,7 @@ pub struct NodeHost<E: EngineShell> {
     pub context: Option<Context>,
 }
 
-impl<E: EngineShell> NodeHost<E>
+impl<E: Engine> NodeHost<E>
 where
     E::Command: Send,
     E::Reply: Send,
@@ -223,12 +224,24 @@ where
     }
 }
 
-impl<E: EngineShell> Drop for NodeHost<E> {
-    fn drop(&mut self) {
-        if let Some(mut s) = self.shell.take() {
-            s.abort();
+impl<E: Engine> NodeHost<E> {
+    /// Stops in order: ROS tasks and node, then the cycle, then the DDS participant.
+    pub async fn stop(mut self) {
+        if let Some(s) = self.shell.take() {
+            s.stop().await;
         }
         self.controller.take();
+        // Let RustDDS's event loop see the removals before the participant goes.
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
         self.context.take();
+    }
+}
+
+impl<E: Engine> crate::launch::Running for NodeHost<E> {
+    fn stop(self: Box<Self>) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>> {
+        Box::pin(NodeHost::stop(*self))
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }

@@ -48,8 +48,16 @@ impl From<ShellError> for StartError {
     }
 }
 
-/// A running node of any kind; dropping it stops the node.
-pub type RunningNode = Box<dyn Any + Send>;
+/// A running node of any kind.
+pub trait Running: Send {
+    /// Stops the node in order (tasks, node, cycle, participant).
+    fn stop(self: Box<Self>) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>>;
+    /// The concrete node, for tests.
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// A running node of any kind, boxed.
+pub type RunningNode = Box<dyn Running>;
 
 /// Starts one node of a kind: common settings, the engine's part of the entry, the location
 /// for error messages, the DDS domain. Must run inside a tokio runtime.
@@ -63,6 +71,10 @@ pub struct NodeKind {
     /// Its start function.
     pub start: StartFn,
 }
+
+/// Every node kind of the suite: entries of these kinds that a binary does not run are
+/// skipped (an `axis_node` binary ignores the `planar_node` entries of a shared config).
+pub const SUITE_KINDS: &[&str] = &["axis_node", "planar_node", "pickplace_node"];
 
 /// One validated node entry.
 pub struct NodeEntry {
@@ -115,10 +127,12 @@ pub fn parse(text: &str, file: &str, kinds: &[NodeKind]) -> Result<Vec<NodeEntry
             message: "missing (one of axis_node, planar_node, pickplace_node)".into(),
         })?;
         let Some(kind) = kinds.iter().find(|k| k.kind == kind_name) else {
-            let known: Vec<&str> = kinds.iter().map(|k| k.kind).collect();
+            if SUITE_KINDS.contains(&kind_name) {
+                continue; // another binary's node
+            }
             return Err(ConfigError {
                 location: format!("{location}.kind"),
-                message: format!("unknown node kind '{kind_name}' (known here: {})", known.join(", ")),
+                message: format!("unknown node kind '{kind_name}' (one of: {})", SUITE_KINDS.join(", ")),
             });
         };
         let location = format!("{location} ({kind_name})");
@@ -227,7 +241,9 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
         }
         tracing::info!("{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop", running.len());
         wait_for_stop(args.duration).await;
-        drop(running);
+        for r in running {
+            r.stop().await;
+        }
         0
     })
 }
@@ -265,10 +281,26 @@ async fn wait_for_stop(duration: Option<f64>) {
 mod tests {
     use super::*;
 
+    struct Nothing;
+    impl Running for Nothing {
+        fn stop(self: Box<Self>) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>> {
+            Box::pin(async {})
+        }
+        fn as_any(&self) -> &dyn Any {
+            self
+        }
+    }
     fn dummy(_: &CommonConfig, _: serde_yaml::Value, _: &str, _: u16) -> Result<RunningNode, StartError> {
-        Ok(Box::new(()))
+        Ok(Box::new(Nothing))
     }
     const KINDS: &[NodeKind] = &[NodeKind { kind: "axis_node", start: dummy }];
+
+    #[test]
+    fn other_suite_kinds_are_skipped() {
+        let e = parse("nodes:\n  - kind: planar_node\n  - kind: axis_node\n", "f.yaml", KINDS).unwrap();
+        assert_eq!(e.len(), 1);
+        assert_eq!(e[0].kind, "axis_node");
+    }
 
     #[test]
     fn good_config_fills_defaults() {

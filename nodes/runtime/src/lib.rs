@@ -11,7 +11,7 @@ pub use stats::CycleStats;
 pub mod logging;
 pub mod shell;
 
-pub use shell::{ActionBinding, CommandLabel, EngineShell, NodeShell, ShellError, ShellSettings};
+pub use shell::{ActionBinding, CommandLabel, NodeShell, ShellError, ShellSettings};
 pub mod host;
 
 pub use host::{CommonConfig, ConfigError, NodeHost};

@@ -10,9 +10,9 @@ use tracing_subscriber::layer::{Context, SubscriberExt};
 use tracing_subscriber::util::SubscriberInitExt;
 use tracing_subscriber::{EnvFilter, Layer};
 
-/// Default filter: our crates at info; RustDDS's per-packet warnings off (see notes/dds.md).
-pub const DEFAULT_FILTER: &str =
-    "info,rustdds=warn,rustdds::rtps::writer=error,rustdds::rtps::reader=error,ros2_client=warn";
+/// Default filter: our crates at info; RustDDS's per-packet warnings ("No locators",
+/// "Message size") off: they fire many times a second on loopback.
+pub const DEFAULT_FILTER: &str = "info,rustdds=error,ros2_client=warn,ros2_client::distributions=error";
 
 type Routes = Mutex<Vec<(String, NodeLoggingHandle)>>;
 

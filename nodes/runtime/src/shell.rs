@@ -153,18 +153,8 @@ impl CommandRegistry {
     }
 }
 
-/// What an engine's shell tells the runtime about error texts and command ids.
-pub trait EngineShell: Engine {
-    /// The command id inside an accepted reply, if the command has a lifetime.
-    fn reply_id(reply: &Self::Reply) -> Option<CmdId>;
-    /// A short text for an error id that arises during execution (after the Execute edge).
-    fn error_text(id: ErrorId) -> String {
-        format!("error {id}")
-    }
-}
-
 /// A node's ROS side: the node, the controller handle, and the tasks serving it.
-pub struct NodeShell<E: EngineShell> {
+pub struct NodeShell<E: Engine> {
     /// The ROS node (one Context per node).
     pub node: Node,
     /// The cycle's handle.
@@ -193,6 +183,18 @@ pub fn private_name(settings: &ShellSettings, rel: &str) -> Result<Name, ShellEr
     let ns = settings.namespace.trim_end_matches('/');
     let full = format!("{ns}/{}/{rel}", settings.node_name);
     Name::parse(&full).map_err(err("name"))
+}
+
+/// Resolves a topic name as ROS does: `~/x` private, `/x` absolute, `x` in the namespace.
+pub fn resolve_name(settings: &ShellSettings, topic: &str) -> Result<Name, ShellError> {
+    if let Some(rel) = topic.strip_prefix("~/") {
+        private_name(settings, rel)
+    } else if topic.starts_with('/') {
+        absolute_name(topic)
+    } else {
+        let ns = settings.namespace.trim_end_matches('/');
+        absolute_name(&format!("{ns}/{topic}"))
+    }
 }
 
 fn absolute_name(full: &str) -> Result<Name, ShellError> {
@@ -229,7 +231,7 @@ fn action_qos() -> ActionServerQosPolicies {
     }
 }
 
-impl<E: EngineShell> NodeShell<E>
+impl<E: Engine> NodeShell<E>
 where
     E::Command: Send,
 {
@@ -247,8 +249,11 @@ where
             opts = opts.declare_parameter(&n, v);
         }
         let ro = read_only.clone();
+        // Declaration goes through the validator too: refuse changes only once the node runs.
+        let running = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let is_running = running.clone();
         opts = opts.parameter_validator(Box::new(move |name: &str, _v: &ParameterValue| {
-            if ro.iter().any(|n| n == name) {
+            if is_running.load(std::sync::atomic::Ordering::SeqCst) && ro.iter().any(|n| n == name) {
                 Err(format!("parameter '{name}' is read-only at run time (set it in the launch config)"))
             } else {
                 Ok(())
@@ -256,6 +261,7 @@ where
         }));
         let name = NodeName::new(&settings.namespace, &settings.node_name).map_err(err("node name"))?;
         let node = context.new_node(name, opts).map_err(err("creating the node"))?;
+        running.store(true, std::sync::atomic::Ordering::SeqCst);
         Ok(NodeShell { node, handle, settings, registry: Arc::new(CommandRegistry::default()), tasks: Vec::new() })
     }
 
@@ -595,7 +601,7 @@ where
         M: Message + fmt::Debug + Send + Sync + 'static,
         F: Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
     {
-        let name = if topic.starts_with('/') { absolute_name(topic)? } else { private_name(&self.settings, topic)? };
+        let name = resolve_name(&self.settings, topic)?;
         let t = self.node.create_topic(&name, type_name, &topic_qos()).map_err(err("topic"))?;
         let publisher = self.node.create_publisher::<M>(&t, None).map_err(err("publisher"))?;
         let handle = self.handle.clone();
@@ -627,16 +633,20 @@ where
         }
     }
 
-    /// Stops the node's tasks (drops servers and publishers before the Context).
-    pub fn abort(&mut self) {
-        for t in &self.tasks {
+    /// Stops the node's tasks and waits until their servers and publishers are dropped (they
+    /// must go before the node and the Context, or RustDDS reports orphaned entities).
+    pub async fn stop(mut self) {
+        let tasks = std::mem::take(&mut self.tasks);
+        for t in &tasks {
             t.abort();
         }
-        self.node.stop_spinner();
+        for t in tasks {
+            let _ = t.await;
+        }
     }
 }
 
-impl<E: EngineShell> Drop for NodeShell<E> {
+impl<E: Engine> Drop for NodeShell<E> {
     fn drop(&mut self) {
         for t in &self.tasks {
             t.abort();
@@ -669,7 +679,7 @@ pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
 }
 
 #[allow(clippy::too_many_arguments)]
-async fn run_goal<E: EngineShell, B: ActionBinding<E>>(
+async fn run_goal<E: Engine, B: ActionBinding<E>>(
     binding: &B,
     goal: &B::Goal,
     goal_id: ros2_client::action::GoalId,
