@@ -430,6 +430,11 @@ impl<E: Engine> CycleThread<E> {
         let tick = Tick { index: self.cycle, dt: self.config.period };
         self.engine.step(tick, &mut self.events);
         self.cycle += 1;
+        // A command that ends is reported with the state it ended in: results built from the
+        // snapshot (action results) must not see an older cycle.
+        if self.events.iter().any(|e| e.state.is_final()) {
+            self.take_snapshot();
+        }
         for ev in self.events.drain(..) {
             let _ = self.sink.all.send(ev);
             if let Some(w) = self.watchers.get(&ev.id) {

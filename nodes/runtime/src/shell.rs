@@ -163,7 +163,8 @@ pub struct NodeShell<E: Engine> {
     pub settings: ShellSettings,
     /// Labels of running commands.
     pub registry: Arc<CommandRegistry>,
-    tasks: Vec<JoinHandle<()>>,
+    tasks: TaskSet,
+    spinner: Option<JoinHandle<()>>,
 }
 
 /// Current ROS time of the node as a message stamp.
@@ -262,14 +263,14 @@ where
         let name = NodeName::new(&settings.namespace, &settings.node_name).map_err(err("node name"))?;
         let node = context.new_node(name, opts).map_err(err("creating the node"))?;
         running.store(true, std::sync::atomic::Ordering::SeqCst);
-        Ok(NodeShell { node, handle, settings, registry: Arc::new(CommandRegistry::default()), tasks: Vec::new() })
+        Ok(NodeShell { node, handle, settings, registry: Arc::new(CommandRegistry::default()), tasks: TaskSet::default(), spinner: None })
     }
 
     /// Starts the spinner and the tasks every node has: `~/command_status`, `/diagnostics`
     /// (1 Hz), and in lockstep mode `/clock` and `~/step`.
     pub fn start_common(&mut self, events: UnboundedReceiver<CommandEvent>) -> Result<(), ShellError> {
         let spinner = self.node.spinner().map_err(err("spinner"))?;
-        self.tasks.push(tokio::spawn(async move {
+        self.spinner = Some(tokio::spawn(async move {
             if let Err(e) = spinner.spin().await {
                 tracing::error!("spinner stopped: {e:?}");
             }
@@ -295,7 +296,7 @@ where
         let publisher = self.node.create_publisher::<CommandStatus>(&topic, None).map_err(err("publisher"))?;
         let registry = self.registry.clone();
         let handle = self.handle.clone();
-        self.tasks.push(tokio::spawn(async move {
+        self.tasks.spawn(async move {
             while let Some(ev) = events.recv().await {
                 let label = registry.label(&ev);
                 let o = motion_core::ExecuteOutputs::from(ev.state);
@@ -316,7 +317,7 @@ where
                     tracing::warn!("command_status publish failed: {e:?}");
                 }
             }
-        }));
+        });
         Ok(())
     }
 
@@ -328,7 +329,7 @@ where
         let publisher = self.node.create_publisher::<DiagnosticArray>(&topic, None).map_err(err("publisher"))?;
         let handle = self.handle.clone();
         let node_name = self.settings.node_name.clone();
-        self.tasks.push(tokio::spawn(async move {
+        self.tasks.spawn(async move {
             let mut tick = tokio::time::interval(Duration::from_secs(1));
             loop {
                 tick.tick().await;
@@ -338,7 +339,7 @@ where
                     tracing::warn!("diagnostics publish failed: {e:?}");
                 }
             }
-        }));
+        });
         Ok(())
     }
 
@@ -349,12 +350,12 @@ where
             .map_err(err("topic"))?;
         let publisher = self.node.create_publisher::<Clock>(&topic, None).map_err(err("publisher"))?;
         let mut snaps = self.handle.snapshots();
-        self.tasks.push(tokio::spawn(async move {
+        self.tasks.spawn(async move {
             while snaps.changed().await.is_ok() {
                 let t = snaps.borrow_and_update().sim_time;
                 let _ = publisher.async_publish(Clock { clock: stamp_from_secs(t) }).await;
             }
-        }));
+        });
         Ok(())
     }
 
@@ -415,14 +416,15 @@ where
         let server = Arc::new(server);
         let handler = Arc::new(handler);
         let sname = name.to_string();
-        self.tasks.push(tokio::spawn(async move {
+        let children = self.tasks.clone();
+        self.tasks.spawn(async move {
             loop {
                 match server.async_receive_request().await {
                     Ok((id, req)) => {
                         let server = server.clone();
                         let handler = handler.clone();
                         let sname = sname.clone();
-                        tokio::spawn(async move {
+                        children.spawn(async move {
                             let resp = handler(req).await;
                             if let Err(e) = server.async_send_response(id, resp).await {
                                 tracing::warn!("{sname}: sending the response failed: {e:?}");
@@ -432,7 +434,7 @@ where
                     Err(e) => tracing::warn!("{sname}: bad request: {e:?}"),
                 }
             }
-        }));
+        });
         Ok(())
     }
 
@@ -501,7 +503,7 @@ where
             let canceled = canceled.clone();
             let handle = self.handle.clone();
             let aname = name.to_string();
-            self.tasks.push(tokio::spawn(async move {
+            self.tasks.spawn(async move {
                 loop {
                     let cancel = match server.receive_cancel_request().await {
                         Ok(c) => c,
@@ -528,13 +530,14 @@ where
                         tracing::warn!("{aname}: cancel response failed: {e:?}");
                     }
                 }
-            }));
+            });
         }
 
         let handle = self.handle.clone();
         let registry = self.registry.clone();
         let aname = name.to_string();
-        self.tasks.push(tokio::spawn(async move {
+        let children = self.tasks.clone();
+        self.tasks.spawn(async move {
             loop {
                 let new_goal = match server.receive_new_goal().await {
                     Ok(g) => g,
@@ -552,7 +555,7 @@ where
                 let canceled = canceled.clone();
                 let result_lock = result_lock.clone();
                 let aname = aname.clone();
-                tokio::spawn(async move {
+                children.spawn(async move {
                     let goal_id = new_goal.goal_id();
                     let accepted = match server.accept_goal(new_goal).await {
                         Ok(a) => a,
@@ -585,7 +588,7 @@ where
                     }
                 });
             }
-        }));
+        });
         Ok(())
     }
 
@@ -606,7 +609,7 @@ where
         let publisher = self.node.create_publisher::<M>(&t, None).map_err(err("publisher"))?;
         let handle = self.handle.clone();
         let period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(0.1));
-        self.tasks.push(tokio::spawn(async move {
+        self.tasks.spawn(async move {
             let mut tick = tokio::time::interval(period);
             tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
             let mut last = u64::MAX;
@@ -622,34 +625,58 @@ where
                     tracing::warn!("state publish failed: {e:?}");
                 }
             }
-        }));
+        });
         Ok(())
-    }
-
-    /// Keeps the node alive until the tasks end (they end when the process does).
-    pub async fn run(mut self) {
-        for t in std::mem::take(&mut self.tasks) {
-            let _ = t.await;
-        }
     }
 
     /// Stops the node's tasks and waits until their servers and publishers are dropped (they
     /// must go before the node and the Context, or RustDDS reports orphaned entities).
     pub async fn stop(mut self) {
-        let tasks = std::mem::take(&mut self.tasks);
-        for t in &tasks {
-            t.abort();
-        }
-        for t in tasks {
-            let _ = t.await;
+        self.tasks.shutdown().await;
+        // Dropping the node signals its spinner, which then ends by itself.
+        let spinner = self.spinner.take();
+        drop(self);
+        if let Some(s) = spinner {
+            let _ = tokio::time::timeout(Duration::from_secs(1), s).await;
         }
     }
 }
 
 impl<E: Engine> Drop for NodeShell<E> {
     fn drop(&mut self) {
-        for t in &self.tasks {
+        self.tasks.abort_all();
+        // The spinner ends when the node (dropped right after this) signals it.
+    }
+}
+
+/// The tasks of a node, including per-request and per-goal children, so that shutdown can
+/// abort and await all of them (each may hold a DDS server or publisher).
+#[derive(Clone, Default)]
+pub struct TaskSet(Arc<Mutex<Vec<JoinHandle<()>>>>);
+
+impl TaskSet {
+    /// Spawns a task on the current runtime and keeps its handle (finished ones are pruned).
+    pub fn spawn(&self, fut: impl Future<Output = ()> + Send + 'static) {
+        let h = tokio::spawn(fut);
+        let mut v = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        v.retain(|t| !t.is_finished());
+        v.push(h);
+    }
+
+    fn abort_all(&self) {
+        for t in self.0.lock().unwrap_or_else(|e| e.into_inner()).iter() {
             t.abort();
+        }
+    }
+
+    /// Aborts every task and waits until each is dropped.
+    pub async fn shutdown(&self) {
+        let tasks = std::mem::take(&mut *self.0.lock().unwrap_or_else(|e| e.into_inner()));
+        for t in &tasks {
+            t.abort();
+        }
+        for t in tasks {
+            let _ = t.await;
         }
     }
 }

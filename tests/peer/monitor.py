@@ -1,0 +1,109 @@
+"""Demo companion: starts motion_launch on a launch config and, as an independent Cyclone DDS
+peer, prints what it sees (state topics, /diagnostics) and drives a little motion on the axes,
+so a newcomer sees the machine working. Ctrl-C (or --duration) stops both.
+
+  python3 tests/peer/monitor.py --launch target/release/motion_launch --config launch-configs/demo.yaml
+"""
+
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import ros2_peer  # noqa: E402
+
+# (topic, type, how to print one sample)
+TOPICS = [
+    ("/axis_node/axis_states", "motion_msgs/msg/AxisStateArray",
+     lambda m: "axes: " + ", ".join(f"{a.name} state {a.motion_state} pos {a.act_pos:9.3f}" for a in m.axes)),
+    ("/planar_node/state", "motion_msgs/msg/PlanarState",
+     lambda m: "movers: " + ", ".join(f"{v.name} ({v.x:.1f}, {v.y:.1f})" for v in m.movers)),
+    ("/pickplace_node/state", "motion_msgs/msg/PickPlaceState",
+     lambda m: f"pick&place: state {m.state} tcp ({m.tcp_x:.1f}, {m.tcp_y:.1f}, {m.tcp_z:.1f}) belts {len(m.belts)}"),
+]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--launch", required=True)
+    ap.add_argument("--config", default="launch-configs/demo.yaml")
+    ap.add_argument("--duration", type=float, default=None)
+    args = ap.parse_args()
+
+    proc = subprocess.Popen([args.launch, args.config])
+    stop = {"now": False}
+    signal.signal(signal.SIGTERM, lambda *_: stop.update(now=True))
+    try:
+        peer = ros2_peer.Peer(int(os.environ.get("ROS_DOMAIN_ID", "0")))
+        readers = []
+        for topic, ty, fmt in TOPICS:
+            if ty in peer.types:
+                readers.append((topic, peer.subscribe(topic, ty), fmt))
+        diag = peer.subscribe("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray")
+        driver = AxisDriver(peer)
+        t0 = time.monotonic()
+        while not stop["now"] and proc.poll() is None:
+            if args.duration is not None and time.monotonic() - t0 > args.duration:
+                break
+            time.sleep(1.0)
+            driver.tick()
+            print(f"--- t = {time.monotonic() - t0:5.1f} s (peer: cyclonedds)", flush=True)
+            for topic, r, fmt in readers:
+                samples = r.take(N=100)
+                if samples:
+                    print(f"{topic}: {fmt(samples[-1])}", flush=True)
+            for d in diag.take(N=100)[-3:]:
+                for st in d.status:
+                    kv = {k.key: k.value for k in st.values}
+                    print(f"/diagnostics {st.name}: cycles {kv.get('cycles')} jitter p99 "
+                          f"{kv.get('jitter_p99_us')} us, max {kv.get('jitter_max_us')} us, "
+                          f"overruns {kv.get('overruns')}", flush=True)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+    return 0
+
+
+class AxisDriver:
+    """Powers the axes of /axis_node and moves each back and forth between 0 and 100."""
+
+    def __init__(self, peer):
+        self.peer = peer
+        self.ready = False
+        self.target = 100.0
+        self.axes = []
+
+    def tick(self):
+        try:
+            if not self.ready:
+                states = self.peer.subscribe("/axis_node/axis_states", "motion_msgs/msg/AxisStateArray")
+                self.axes = [a.name for a in self.peer.take_one(states, timeout=5).axes]
+                self.power = self.peer.service("/axis_node/power", "motion_msgs/srv/Power")
+                self.move = self.peer.service("/axis_node/move_absolute", "motion_msgs/srv/MoveAbsolute")
+                self.power.wait_for_server(5)
+                self.move.wait_for_server(5)
+                for a in self.axes:
+                    self.power.call(axis=a, enable=True, enable_positive=True, enable_negative=True, override=100.0)
+                self.ready = True
+                self.last = 0.0
+            if time.monotonic() - self.last > 3.0:
+                for a in self.axes:
+                    r = self.move.call(axis=a, position=self.target, velocity=100.0)
+                    if not r.accepted:
+                        print(f"move_absolute {a}: rejected {r.error_id:#x} {r.message}", flush=True)
+                self.target = 100.0 - self.target
+                self.last = time.monotonic()
+        except (TimeoutError, KeyError) as e:
+            print(f"(axis driver waiting: {e})", flush=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
