@@ -17,6 +17,21 @@ pub fn prepare_cycle_thread() {
     }
 }
 
+/// Sleeps until `deadline - spin` on the monotonic clock (absolute: no drift from late
+/// wake-ups), then busy-waits the last `spin` (the kernel's wake-up latency is the jitter
+/// floor of a plain sleep; spinning trades CPU for it).
+pub fn wait_until(deadline: Instant, spin: std::time::Duration) {
+    if spin.is_zero() {
+        return sleep_until(deadline);
+    }
+    if let Some(early) = deadline.checked_sub(spin) {
+        sleep_until(early);
+    }
+    while Instant::now() < deadline {
+        std::hint::spin_loop();
+    }
+}
+
 /// Sleeps until `deadline` on the monotonic clock (absolute: no drift from late wake-ups).
 pub fn sleep_until(deadline: Instant) {
     #[cfg(target_os = "linux")]

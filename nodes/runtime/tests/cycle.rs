@@ -76,6 +76,7 @@ fn lockstep(period: f64, queue: usize) -> CycleConfig {
         mode: ClockMode::Lockstep,
         queue_capacity: queue,
         snapshot_every: 1,
+        spin: 0.0,
     }
 }
 
@@ -186,6 +187,7 @@ fn realtime_keeps_the_schedule_without_drift() {
         mode: ClockMode::RealTime,
         queue_capacity: 8,
         snapshot_every: 1,
+        spin: 0.0,
     };
     let (ctl, _e) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
     let h = ctl.handle();

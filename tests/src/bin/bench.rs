@@ -43,7 +43,9 @@ fn main() {
     let smoke = args.iter().any(|a| a == "--smoke");
     let all = !args.iter().any(|a| a == "runtime" || a == "roundtrip");
     if all || args.iter().any(|a| a == "runtime") {
-        runtime_jitter(if smoke { 2.0 } else { 60.0 });
+        let secs = if smoke { 2.0 } else { 60.0 };
+        runtime_jitter(secs, 0.0);
+        runtime_jitter(secs, 100e-6);
     }
     if all || args.iter().any(|a| a == "roundtrip") {
         if std::env::var("MOTION_IN_NETNS").as_deref() != Ok("1") {
@@ -54,13 +56,14 @@ fn main() {
     }
 }
 
-fn runtime_jitter(seconds: f64) {
+fn runtime_jitter(seconds: f64, spin: f64) {
     let cfg = CycleConfig {
         name: "bench".into(),
         period: 0.001,
         mode: ClockMode::RealTime,
         queue_capacity: 64,
         snapshot_every: 10,
+        spin,
     };
     let (ctl, _events) = Controller::spawn(Trivial { x: 0.0, next: 0 }, cfg, |r| Some(*r)).expect("controller");
     std::thread::sleep(Duration::from_secs_f64(seconds));
@@ -69,7 +72,8 @@ fn runtime_jitter(seconds: f64) {
     let s = h.stats();
     let us = |v: f64| v * 1e6;
     println!(
-        "runtime @1 kHz, {seconds:.0} s, trivial engine: cycles {} overruns {} | jitter p50 {:.1} us p99 {:.1} us max {:.1} us | exec mean {:.2} us p99 {:.1} us max {:.1} us",
+        "runtime @1 kHz, {seconds:.0} s, trivial engine, spin {:.0} us: cycles {} overruns {} | jitter p50 {:.1} us p99 {:.1} us max {:.1} us | exec mean {:.2} us p99 {:.1} us max {:.1} us",
+        us(spin),
         s.cycles,
         s.overruns,
         us(s.jitter_p50),
