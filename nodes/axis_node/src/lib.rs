@@ -23,7 +23,20 @@ use ros2_client::ParameterValue;
 pub const KIND: &str = "axis_node";
 
 /// The launcher's entry for this node.
-pub const NODE_KIND: NodeKind = NodeKind { kind: KIND, start: start_boxed };
+pub const NODE_KIND: NodeKind = NodeKind { kind: KIND, start: start_boxed, check };
+
+/// Checks an `axis_node` entry's engine part (`--check`): parse and build the engine.
+pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
+    engine(engine_cfg, location).map(|_| ())
+}
+
+fn engine(engine_cfg: serde_yaml::Value, location: &str) -> Result<(AxisEngine, Vec<String>), ConfigError> {
+    let cfg = AxisNodeConfig::from_yaml(engine_cfg, location)?;
+    let names: Vec<String> = cfg.axes.iter().map(|(n, _)| n.clone()).collect();
+    let engine = AxisEngine::new(cfg.axes)
+        .map_err(|r| ConfigError { location: format!("{location}.axes"), message: r.message })?;
+    Ok((engine, names))
+}
 
 /// The engine part of an `axis_node` entry of a launch config.
 #[derive(Clone, Debug, Default)]
@@ -74,10 +87,7 @@ pub fn start(
     location: &str,
     domain_id: u16,
 ) -> Result<AxisNode, StartError> {
-    let cfg = AxisNodeConfig::from_yaml(engine_cfg, location)?;
-    let names: Vec<String> = cfg.axes.iter().map(|(n, _)| n.clone()).collect();
-    let engine = AxisEngine::new(cfg.axes.clone())
-        .map_err(|r| ConfigError { location: format!("{location}.axes"), message: r.message })?;
+    let (engine, names) = engine(engine_cfg, location)?;
     let params = vec![("axes".to_string(), ParameterValue::StringArray(names.clone()))];
     Ok(NodeHost::start(KIND, common, domain_id, engine, params, |shell| setup(shell, names))?)
 }

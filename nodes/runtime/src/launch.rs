@@ -63,6 +63,9 @@ pub type RunningNode = Box<dyn Running>;
 /// for error messages, the DDS domain. Must run inside a tokio runtime.
 pub type StartFn = fn(&CommonConfig, serde_yaml::Value, &str, u16) -> Result<RunningNode, StartError>;
 
+/// Checks the engine part of an entry without starting anything (`--check`).
+pub type CheckFn = fn(serde_yaml::Value, &str) -> Result<(), ConfigError>;
+
 /// A node kind the launcher knows.
 #[derive(Clone, Copy)]
 pub struct NodeKind {
@@ -70,6 +73,8 @@ pub struct NodeKind {
     pub kind: &'static str,
     /// Its start function.
     pub start: StartFn,
+    /// Its config check.
+    pub check: CheckFn,
 }
 
 /// Every node kind of the suite: entries of these kinds that a binary does not run are
@@ -225,6 +230,10 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
         for e in &entries {
             let kind = kinds.iter().find(|k| k.kind == e.kind).expect("checked by load");
             if args.check {
+                if let Err(err) = (kind.check)(e.engine.clone(), &e.location) {
+                    eprintln!("{program}: configuration error: {err}");
+                    return 2;
+                }
                 continue;
             }
             match (kind.start)(&e.common, e.engine.clone(), &e.location, domain) {
@@ -293,7 +302,10 @@ mod tests {
     fn dummy(_: &CommonConfig, _: serde_yaml::Value, _: &str, _: u16) -> Result<RunningNode, StartError> {
         Ok(Box::new(Nothing))
     }
-    const KINDS: &[NodeKind] = &[NodeKind { kind: "axis_node", start: dummy }];
+    fn no_check(_: serde_yaml::Value, _: &str) -> Result<(), ConfigError> {
+        Ok(())
+    }
+    const KINDS: &[NodeKind] = &[NodeKind { kind: "axis_node", start: dummy, check: no_check }];
 
     #[test]
     fn other_suite_kinds_are_skipped() {
