@@ -1,12 +1,17 @@
 //! Benchmarks (not timed tests): figures are printed, with ratios against references measured
 //! in the same run.
 //!
-//! `bench [--smoke] [runtime] [roundtrip]` (default: all). `--smoke` runs short versions (CI).
+//! `bench [--smoke] [runtime] [roundtrip] [axis] [ruckig]` (default: all). `--smoke` runs short
+//! versions (CI).
 //! - runtime: cycle jitter p50/p99/max and overruns of the cyclic controller at 1 kHz with a
 //!   trivial engine (60 s; smoke 2 s).
 //! - roundtrip: service round trip through a node's command path (queue, cycle, reply) vs a
 //!   bare ros2-client echo server of the same type, same process, same loopback DDS.
 //!   Must run inside scripts/netns-run.
+//! - axis: engine step cost per moving axis for 1, 100, 1000 axes (all moving), against the
+//!   cost of evaluating their trajectories alone (the floor).
+//! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
+//!   the time-optimal duration of the PyPI `ruckig` package; limits checked at 1 ms samples.
 
 use motion_core::{CmdId, CommandEvent, Engine, Rejection, Tick};
 use motion_msgs::srv::{Reset, ResetRequest, ResetResponse};
@@ -41,7 +46,7 @@ impl Engine for Trivial {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let smoke = args.iter().any(|a| a == "--smoke");
-    let all = !args.iter().any(|a| a == "runtime" || a == "roundtrip");
+    let all = !args.iter().any(|a| ["runtime", "roundtrip", "axis", "ruckig"].contains(&a.as_str()));
     if all || args.iter().any(|a| a == "runtime") {
         let secs = if smoke { 2.0 } else { 60.0 };
         runtime_jitter(secs, 0.0);
@@ -54,6 +59,175 @@ fn main() {
         }
         roundtrip(if smoke { 200 } else { 2000 });
     }
+    if all || args.iter().any(|a| a == "axis") {
+        axis_step_cost(if smoke { &[1, 100] } else { &[1, 100, 1000] }, if smoke { 200 } else { 2000 });
+    }
+    if all || args.iter().any(|a| a == "ruckig") {
+        ruckig_ratio(if smoke { 100 } else { 1000 });
+    }
+}
+
+fn axis_config() -> axis_engine::AxisConfig {
+    serde_json::from_str(r#"{"max_velocity":1000.0,"acceleration":5000.0,"deceleration":5000.0,"jerk":50000.0}"#)
+        .expect("axis config")
+}
+
+/// Engine step cost per moving axis: every axis runs a long move for the whole measurement.
+fn axis_step_cost(counts: &[usize], steps: u64) {
+    use axis_engine::{AxisCommand, AxisEngine, BufferMode, MoveAbsolute, MoveOptions, Power};
+    for &n in counts {
+        let axes = (0..n).map(|i| (format!("a{i}"), axis_config())).collect();
+        let mut e = AxisEngine::new(axes).expect("engine");
+        let mut ev = Vec::with_capacity(4 * n);
+        for i in 0..n {
+            e.command(AxisCommand::Power(Power {
+                axis: format!("a{i}"),
+                enable: true,
+                enable_positive: true,
+                enable_negative: true,
+                override_percent: 100.0,
+                buffer_mode: BufferMode::Aborting,
+            }))
+            .expect("power");
+        }
+        let mut tick = 0;
+        for _ in 0..5 {
+            e.step(Tick { index: tick, dt: 0.001 }, &mut ev);
+            tick += 1;
+        }
+        for i in 0..n {
+            e.command(AxisCommand::MoveAbsolute(MoveAbsolute {
+                axis: format!("a{i}"),
+                position: 1.0e6 + i as f64,
+                velocity: 1000.0,
+                acceleration: 0.0,
+                deceleration: 0.0,
+                jerk: 0.0,
+                buffer_mode: BufferMode::Aborting,
+                options: MoveOptions::default(),
+            }))
+            .expect("move");
+        }
+        ev.clear();
+        let t0 = Instant::now();
+        for _ in 0..steps {
+            e.step(Tick { index: tick, dt: 0.001 }, &mut ev);
+            ev.clear();
+            tick += 1;
+        }
+        let per = t0.elapsed().as_secs_f64() / (steps as f64 * n as f64);
+        let moving = e.snapshot().axes.iter().filter(|a| a.has_job).count();
+        // Floor: evaluating one planned profile per axis and step.
+        let limits = motion_core::trajectory::Limits { velocity: 1000.0, acceleration: 5000.0, deceleration: 5000.0, jerk: 50000.0 };
+        let profile = motion_core::trajectory::Profile1::to_position(
+            motion_core::trajectory::State1::at_rest(0.0),
+            1.0e6,
+            0.0,
+            &limits,
+        )
+        .expect("profile");
+        let t0 = Instant::now();
+        let mut acc = 0.0;
+        for k in 0..steps {
+            for i in 0..n {
+                acc += profile.at((k as f64 + i as f64 * 1e-6) * 0.001).pos;
+            }
+        }
+        let floor = t0.elapsed().as_secs_f64() / (steps as f64 * n as f64);
+        std::hint::black_box(acc);
+        println!(
+            "axis engine step: {n:5} axes ({moving} moving): {:7.1} ns per moving axis per step | profile evaluation alone {:5.1} ns (ratio {:.1}) | target <= 100 ns at 1000 axes",
+            per * 1e9,
+            floor * 1e9,
+            per / floor
+        );
+    }
+}
+
+/// Our trajectory durations against the PyPI ruckig oracle, with a limit check.
+fn ruckig_ratio(count: usize) {
+    use motion_core::trajectory::{Limits, Profile1, State1};
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand::rngs::SmallRng::seed_from_u64(
+        std::env::var("BENCH_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(42),
+    );
+    let mut moves = Vec::with_capacity(count);
+    let mut lines = String::new();
+    for _ in 0..count {
+        let p0: f64 = rng.gen_range(-500.0..500.0);
+        let p1: f64 = rng.gen_range(-500.0..500.0);
+        let l = Limits {
+            velocity: rng.gen_range(10.0..2000.0),
+            acceleration: rng.gen_range(50.0..20000.0),
+            deceleration: rng.gen_range(50.0..20000.0),
+            jerk: rng.gen_range(500.0..500000.0),
+        };
+        lines.push_str(&format!(
+            "{{\"p0\":{p0:?},\"p1\":{p1:?},\"v\":{:?},\"a\":{:?},\"d\":{:?},\"j\":{:?}}}\n",
+            l.velocity, l.acceleration, l.deceleration, l.jerk
+        ));
+        moves.push((p0, p1, l));
+    }
+    let python = std::env::var("MOTION_PYTHON").unwrap_or_else(|_| "python3".into());
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("peer/ruckig_oracle.py");
+    let mut child = std::process::Command::new(&python)
+        .arg(&script)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("python3 with the ruckig package (scripts/setup.sh installs it)");
+    {
+        use std::io::Write;
+        child.stdin.take().expect("stdin").write_all(lines.as_bytes()).expect("write");
+    }
+    let out = child.wait_with_output().expect("oracle");
+    let oracle: Vec<f64> = String::from_utf8_lossy(&out.stdout).lines().map(|l| l.trim().parse().unwrap_or(f64::NAN)).collect();
+    assert_eq!(oracle.len(), count, "oracle answered {} of {count}", oracle.len());
+    let (mut max_ratio, mut sum, mut n, mut violations, mut failures) = (0.0f64, 0.0, 0, 0, 0);
+    let tol = 1e-6;
+    for ((p0, p1, l), t_ref) in moves.iter().zip(&oracle) {
+        let p = match Profile1::to_position(State1::at_rest(*p0), *p1, 0.0, l) {
+            Ok(p) => p,
+            Err(_) => {
+                failures += 1;
+                continue;
+            }
+        };
+        if !(t_ref.is_finite() && *t_ref > 0.0) {
+            continue;
+        }
+        let r = p.duration() / t_ref;
+        max_ratio = max_ratio.max(r);
+        sum += r;
+        n += 1;
+        let mut t = 0.0;
+        let mut prev = p.at(0.0);
+        let mut bad = false;
+        while t <= p.duration() {
+            let s = p.at(t);
+            let accelerating = s.acc * s.vel > 0.0;
+            let a_lim = if accelerating { l.acceleration } else { l.deceleration.max(l.acceleration) };
+            if s.vel.abs() > l.velocity * (1.0 + tol) || s.acc.abs() > a_lim * (1.0 + tol) {
+                bad = true;
+            }
+            if t > 0.0 && ((s.acc - prev.acc) / 0.001).abs() > l.jerk * (1.0 + 1e-3) + 1e-9 {
+                bad = true;
+            }
+            prev = s;
+            t += 0.001;
+        }
+        let end = p.at(p.duration());
+        if (end.pos - p1).abs() > 1e-9 {
+            bad = true;
+        }
+        if bad {
+            violations += 1;
+        }
+    }
+    println!(
+        "trajectory vs PyPI ruckig ({n} random moves from rest): duration ratio max {max_ratio:.6} mean {:.6} (target max <= 1.001) | limit violations {violations} | planning failures {failures}",
+        sum / n.max(1) as f64
+    );
 }
 
 fn runtime_jitter(seconds: f64, spin: f64) {
