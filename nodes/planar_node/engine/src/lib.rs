@@ -1,1 +1,46 @@
-//! (being built)
+//! XPlanar planar-motion engine (xplanar.md), part 1: environment, parts and coordinate
+//! systems, movers with six coordinates, groups with area reservation, feedback, and the
+//! no-overlap guard. Tracks, track networks and trails (§1.6, §5.4–§5.6, §5.8) come later;
+//! their command modes already exist in [`CommandMode`] and the matrix ([`admission`]).
+//!
+//! Pure and deterministic: [`PlanarEngine`] implements [`motion_core::Engine`]; time comes
+//! only from `step(tick)`.
+//!
+//! ```text
+//! PlanarEngine::new(PlanarConfig) -> Result<PlanarEngine, Rejection>
+//! engine.command(PlanarCommand::MoveToPosition { mover, target_position, constraint, options })
+//!     -> Ok(PlanarReply { id, warning_id, value }) | Err(Rejection { error_id, message })
+//! engine.step(Tick { index, dt }, &mut events)   // CommandEvent { id, state } per change
+//! engine.snapshot() -> PlanarSnapshot { environment, movers, groups, parts }
+//! ```
+//!
+//! Module map: [`config`] (§1.12), `state` (§2.1), [`admission`] (§2.3), [`command`] (§3),
+//! [`types`] (§3.8, §4), [`motion`] (§5.1–§5.3), [`geometry`] and `guard` (§5.11 and the
+//! no-overlap invariant), [`errors`] (§6.2), [`snapshot`] (§4.4).
+
+pub mod admission;
+pub mod command;
+pub mod config;
+mod engine;
+pub mod errors;
+pub mod geometry;
+mod guard;
+pub mod motion;
+mod objects;
+pub mod snapshot;
+mod state;
+pub mod types;
+
+pub use admission::{admissible, AdmissionContext, CommandKind};
+pub use command::{ObjectKind, PlanarCommand};
+pub use config::{
+    EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig, PartPositionConfig,
+    PlanarConfig,
+};
+pub use engine::PlanarEngine;
+pub use snapshot::{
+    ActiveCommands, BusyFlags, EnvironmentSnapshot, GroupSnapshot, MoverSnapshot, PartSnapshot,
+    PlanarReply, PlanarSnapshot, ReplyValue,
+};
+pub use state::Timing;
+pub use types::*;

@@ -1,0 +1,248 @@
+//! The command enum: one variant per method of §3 (manual parameters in snake_case, objects
+//! addressed by their configured names). Feedback objects are the returned [`motion_core::CmdId`].
+
+use crate::types::{
+    DynamicConstraint, ErrorReaction, ExternalSetpointGenerationOptions, MoveCOptions,
+    MoveToPositionOptions, MoverVector, PositionXYC,
+};
+use serde::{Deserialize, Serialize};
+
+/// Kind of object addressed by [`PlanarCommand::InjectError`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ObjectKind {
+    /// A mover.
+    Mover,
+    /// A group.
+    Group,
+    /// A part.
+    Part,
+}
+
+/// A method call (§3). Variant names keep the manual's method names, prefixed with the
+/// object type where several objects share a method name.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum PlanarCommand {
+    // --- MC_PlanarEnvironment (§3.1)
+    /// `Clear(fb)`.
+    EnvironmentClear,
+    /// `AddStator(fb, lowerX, lowerY)`.
+    AddStator {
+        /// Lower-left x \[mm\].
+        lower_x: f64,
+        /// Lower-left y \[mm\].
+        lower_y: f64,
+    },
+    /// `CreateBoundary(fb)`.
+    CreateBoundary,
+    /// `AddToGroup(fb, group)` of the environment.
+    EnvironmentAddToGroup {
+        /// Group name.
+        group: String,
+    },
+    /// `RemoveFromGroup(fb)` of the environment.
+    EnvironmentRemoveFromGroup,
+    /// `GetPlanarObjectInfo()` of the environment.
+    EnvironmentGetPlanarObjectInfo,
+
+    // --- MC_PlanarMover (§3.2)
+    /// `MoveToPosition(fb, targetPosition, constraint, options)`.
+    MoveToPosition {
+        /// Mover name.
+        mover: String,
+        /// Target.
+        target_position: PositionXYC,
+        /// Limits (0 = default).
+        constraint: DynamicConstraint,
+        /// Options.
+        options: MoveToPositionOptions,
+    },
+    /// `MoveZ(fb, targetPosition, constraint)`.
+    MoveZ {
+        /// Mover name.
+        mover: String,
+        /// Target z \[mm\].
+        target_position: f64,
+        /// Limits (0 = default).
+        constraint: DynamicConstraint,
+    },
+    /// `MoveA(fb, targetPosition, constraint)`.
+    MoveA {
+        /// Mover name.
+        mover: String,
+        /// Target a \[deg\].
+        target_position: f64,
+        /// Limits (0 = default).
+        constraint: DynamicConstraint,
+    },
+    /// `MoveB(fb, targetPosition, constraint)`.
+    MoveB {
+        /// Mover name.
+        mover: String,
+        /// Target b \[deg\].
+        target_position: f64,
+        /// Limits (0 = default).
+        constraint: DynamicConstraint,
+    },
+    /// `MoveC(fb, targetPosition, constraint, options)`.
+    MoveC {
+        /// Mover name.
+        mover: String,
+        /// Target c \[deg\].
+        target_position: f64,
+        /// Limits (0 = default).
+        constraint: DynamicConstraint,
+        /// Options.
+        options: MoveCOptions,
+    },
+    /// `Halt(fb, constraint)`.
+    Halt {
+        /// Mover name.
+        mover: String,
+        /// Deceleration/jerk (0 = default).
+        constraint: DynamicConstraint,
+    },
+    /// `Enable(fb)` of a mover.
+    MoverEnable {
+        /// Mover name.
+        mover: String,
+    },
+    /// `Disable(fb)` of a mover.
+    MoverDisable {
+        /// Mover name.
+        mover: String,
+    },
+    /// `Reset(fb)` of a mover.
+    MoverReset {
+        /// Mover name.
+        mover: String,
+    },
+    /// `SetPosition(fb, position)` (Disabled only).
+    SetPosition {
+        /// Mover name.
+        mover: String,
+        /// New pose.
+        position: PositionXYC,
+    },
+    /// `StartExternalSetpointGeneration(fb, options)`.
+    StartExternalSetpointGeneration {
+        /// Mover name.
+        mover: String,
+        /// Options.
+        options: ExternalSetpointGenerationOptions,
+    },
+    /// `StopExternalSetpointGeneration(fb)`.
+    StopExternalSetpointGeneration {
+        /// Mover name.
+        mover: String,
+    },
+    /// `SetExternalSetpoint(setPosition, setVelocity, setAcceleration)` (mover's CS).
+    SetExternalSetpoint {
+        /// Mover name.
+        mover: String,
+        /// Position (absolute) or offset (relative).
+        set_position: MoverVector,
+        /// Velocity.
+        set_velocity: MoverVector,
+        /// Acceleration.
+        set_acceleration: MoverVector,
+    },
+    /// `SetExternalSetpointReferenceId(fb, setPosition, setVelocity, setAcceleration, referenceSystemOid)`.
+    SetExternalSetpointReferenceId {
+        /// Mover name.
+        mover: String,
+        /// Position.
+        set_position: MoverVector,
+        /// Velocity.
+        set_velocity: MoverVector,
+        /// Acceleration.
+        set_acceleration: MoverVector,
+        /// CS or part OID (0 only in the static single-CS case).
+        reference_system_oid: u32,
+    },
+    /// `AddToGroup(fb, group)` of a mover.
+    MoverAddToGroup {
+        /// Mover name.
+        mover: String,
+        /// Group name.
+        group: String,
+    },
+    /// `RemoveFromGroup(fb)` of a mover.
+    MoverRemoveFromGroup {
+        /// Mover name.
+        mover: String,
+    },
+    /// `GetPositionOnCurrentPart(position)`.
+    GetPositionOnCurrentPart {
+        /// Mover name.
+        mover: String,
+    },
+    /// `GetPlanarObjectInfo()` of a mover.
+    MoverGetPlanarObjectInfo {
+        /// Mover name.
+        mover: String,
+    },
+
+    // --- MC_PlanarGroup (§3.4)
+    /// `Enable(fb)` of a group.
+    GroupEnable {
+        /// Group name.
+        group: String,
+    },
+    /// `Disable(fb)` of a group.
+    GroupDisable {
+        /// Group name.
+        group: String,
+    },
+    /// `Reset(fb)` of a group.
+    GroupReset {
+        /// Group name.
+        group: String,
+    },
+
+    // --- MC_PlanarPart (§3.5)
+    /// `Initialize(fb, partOID, environment)`.
+    PartInitialize {
+        /// Part (wrapper) name.
+        part: String,
+        /// OID to connect to.
+        part_oid: u32,
+    },
+    /// `ActivatePosition(fb, positionIndex)`.
+    ActivatePosition {
+        /// Part name.
+        part: String,
+        /// 1-based position index.
+        position_index: u32,
+    },
+    /// `AllowEnable(fb)`.
+    AllowEnable {
+        /// Part name.
+        part: String,
+    },
+    /// `ForceDisable(fb)`.
+    ForceDisable {
+        /// Part name.
+        part: String,
+    },
+    /// `Reset(fb)` of a part.
+    PartReset {
+        /// Part name.
+        part: String,
+    },
+    /// `GetPosition(position)` of a part.
+    PartGetPosition {
+        /// Part name.
+        part: String,
+    },
+
+    // --- test hook (§6.2)
+    /// `InjectError(object, reaction)`: puts the object into ErrorPending (E_OBJECT_ERROR).
+    InjectError {
+        /// Object kind.
+        kind: ObjectKind,
+        /// Object name.
+        name: String,
+        /// Error reaction.
+        reaction: ErrorReaction,
+    },
+}

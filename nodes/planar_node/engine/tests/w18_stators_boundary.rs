@@ -1,0 +1,52 @@
+//! W18 – Stators and boundary (manual 6.4.2): four stators, CreateBoundary → 4 stators,
+//! 8 boundary elements (one per exposed 240 mm edge, §1.2 proposal).
+
+mod common;
+use common::*;
+use planar_engine::*;
+
+#[test]
+fn w18_stators_and_boundary() {
+    let mut s = Sim::with_movers(&[("M", 120.0, 120.0)]);
+    for (x, y) in [(0.0, 0.0), (240.0, 0.0), (0.0, 240.0), (240.0, 240.0)] {
+        s.ok(PlanarCommand::AddStator {
+            lower_x: x,
+            lower_y: y,
+        });
+    }
+    s.ok(PlanarCommand::CreateBoundary);
+    let env = s.snap().environment;
+    assert_eq!(env.stator_count, 4);
+    assert_eq!(env.boundary_element_count, 8);
+    // Overlapping stator → E_INVALID_PARAMETER, nothing added.
+    let e = s.err(PlanarCommand::AddStator {
+        lower_x: 100.0,
+        lower_y: 0.0,
+    });
+    assert_eq!(e.error_id, errors::E_INVALID_PARAMETER);
+    assert_eq!(s.snap().environment.stator_count, 4);
+    // The area is [0, 480]²: inside reachable, outside not.
+    s.enable("M");
+    s.ok(mtp("M", 360.0, 360.0, 0.0));
+    let e = s.err(mtp("M", 500.0, 100.0, 0.0));
+    assert_eq!(e.error_id, errors::E_TARGET_UNREACHABLE);
+    // Clear removes stators and boundary; CreateBoundary without stators fails.
+    s.ok(PlanarCommand::EnvironmentClear);
+    assert_eq!(s.snap().environment.stator_count, 0);
+    assert_eq!(s.snap().environment.boundary_element_count, 0);
+    assert_eq!(
+        s.err(PlanarCommand::CreateBoundary).error_id,
+        errors::E_INVALID_PARAMETER
+    );
+    let info = s
+        .cmd(PlanarCommand::EnvironmentGetPlanarObjectInfo)
+        .unwrap()
+        .value;
+    assert_eq!(
+        info,
+        ReplyValue::ObjectInfo(PlanarObjectInfo {
+            object_type: PlanarObjectType::Environment,
+            id: s.snap().environment.oid
+        })
+    );
+}
