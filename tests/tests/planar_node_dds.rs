@@ -3,14 +3,21 @@
 //! rejected with error ids), runs a MoveToPosition action to its result and cancels one
 //! (cancel = the mover's Halt, xplanar.md §9); with both request/reply mappings.
 
-use motion_msgs::action::{MoverMoveToPosition, MoverMoveToPositionFeedback, MoverMoveToPositionGoal, MoverMoveToPositionResult};
+use motion_msgs::action::{
+    MoverMoveToPosition, MoverMoveToPositionFeedback, MoverMoveToPositionGoal,
+    MoverMoveToPositionResult,
+};
 use motion_msgs::deps::geometry_msgs::msg::PoseArray;
 use motion_msgs::deps::visualization_msgs::msg::{Marker, MarkerArray};
 use motion_msgs::msg::{PlanarMoverState, PlanarState};
-use motion_msgs::srv::{self, MoverEnable, MoverEnableRequest, MoverEnableResponse, MoverMoveCRequest, MoverMoveCResponse};
+use motion_msgs::srv::{
+    self, MoverEnable, MoverEnableRequest, MoverEnableResponse, MoverMoveCRequest,
+    MoverMoveCResponse,
+};
 use motion_msgs::srv::{MoverMoveToPositionRequest, MoverMoveToPositionResponse};
+use motion_msgs::srv::{PlanarInjectError, PlanarInjectErrorRequest, PlanarInjectErrorResponse};
 use motion_runtime::shell::{service_qos, topic_qos};
-use planar_engine::errors::E_INVALID_STATE;
+use planar_engine::errors::{E_INVALID_STATE, E_OBJECT_ERROR};
 use planar_node::PlanarNode;
 use ros2_client::action::ActionClientQosPolicies;
 use ros2_client::action_msgs::GoalStatusEnum;
@@ -31,7 +38,8 @@ groups: [{name: g1}]
 
 fn start_node(domain: u16, mapping: ServiceMapping) -> PlanarNode {
     let cfg: serde_yaml::Value = serde_yaml::from_str(CONFIG).unwrap();
-    planar_node::start(&common("planar_node", true, mapping), cfg, "test", domain).expect("planar node")
+    planar_node::start(&common("planar_node", true, mapping), cfg, "test", domain)
+        .expect("planar node")
 }
 
 /// Steps the lockstep node `cycles` cycles every millisecond until dropped.
@@ -44,21 +52,55 @@ fn drive(node: &PlanarNode, cycles: u64) -> system_tests::AbortOnDrop {
     }))
 }
 
-async fn client<Req, Resp>(c: &mut ClientNode, name: &str, ty: ros2_client::ServiceTypeName) -> Client<Req, Resp>
+async fn client<Req, Resp>(
+    c: &mut ClientNode,
+    name: &str,
+    ty: ros2_client::ServiceTypeName,
+) -> Client<Req, Resp>
 where
     Req: ros2_client::Message + Clone + 'static,
     Resp: ros2_client::Message + 'static,
 {
     let cl = c
         .node
-        .create_client::<Req, Resp>(c.mapping, &ClientNode::name(name), &ty, service_qos(), service_qos())
+        .create_client::<Req, Resp>(
+            c.mapping,
+            &ClientNode::name(name),
+            &ty,
+            service_qos(),
+            service_qos(),
+        )
         .expect("client");
-    within(20.0, &format!("service {name} discovered"), cl.wait_for_service(&c.node)).await;
+    discovered(&format!("service {name}"), || cl.wait_for_service(&c.node)).await;
     cl
 }
 
-fn subscribe<M: ros2_client::Message + 'static>(c: &mut ClientNode, name: &str, ty: ros2_client::MessageTypeName) -> Subscription<M> {
-    let topic = c.node.create_topic(&ClientNode::name(name), ty, &topic_qos()).unwrap();
+/// Waits for a match, re-checking every 0.5 s: ros2-client's `wait_for_service` watches a
+/// bounded event channel and can miss the match event when a node with many endpoints (this
+/// one has ~150) floods it; a fresh call sees the match state directly.
+async fn discovered<F, Fut>(what: &str, f: F)
+where
+    F: Fn() -> Fut,
+    Fut: std::future::Future<Output = ()>,
+{
+    within(20.0, &format!("{what} discovered"), async {
+        while tokio::time::timeout(std::time::Duration::from_millis(500), f())
+            .await
+            .is_err()
+        {}
+    })
+    .await
+}
+
+fn subscribe<M: ros2_client::Message + 'static>(
+    c: &mut ClientNode,
+    name: &str,
+    ty: ros2_client::MessageTypeName,
+) -> Subscription<M> {
+    let topic = c
+        .node
+        .create_topic(&ClientNode::name(name), ty, &topic_qos())
+        .unwrap();
     c.node.create_subscription::<M>(&topic, None).unwrap()
 }
 
@@ -77,7 +119,12 @@ fn action_qos() -> ActionClientQosPolicies {
 }
 
 /// Takes state samples until `pred` holds for one (within `secs`).
-async fn wait_state(states: &Subscription<PlanarState>, secs: f64, what: &str, pred: impl Fn(&PlanarState) -> bool) -> PlanarState {
+async fn wait_state(
+    states: &Subscription<PlanarState>,
+    secs: f64,
+    what: &str,
+    pred: impl Fn(&PlanarState) -> bool,
+) -> PlanarState {
     within(secs, what, async {
         loop {
             let (s, _) = states.async_take().await.unwrap();
@@ -98,8 +145,17 @@ async fn scenario(mapping: ServiceMapping) {
 
     // ~/state: environment, movers in configuration order, Disabled at start.
     let states = subscribe::<PlanarState>(&mut c, "/planar_node/state", PlanarState::type_name());
-    let (first, _) = within(20.0, "first state sample", states.async_take()).await.unwrap();
-    assert_eq!(first.movers.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(), ["m1", "m2"]);
+    let (first, _) = within(20.0, "first state sample", states.async_take())
+        .await
+        .unwrap();
+    assert_eq!(
+        first
+            .movers
+            .iter()
+            .map(|m| m.name.as_str())
+            .collect::<Vec<_>>(),
+        ["m1", "m2"]
+    );
     assert_eq!(first.movers[0].state, PlanarMoverState::STATE_DISABLED);
     assert_eq!((first.movers[1].x, first.movers[1].y), (600.0, 360.0));
     assert_eq!(first.environment.stator_count, 6);
@@ -108,28 +164,64 @@ async fn scenario(mapping: ServiceMapping) {
 
     // ~/mover_poses (metres, frame planar_env) and ~/markers (6 stators, sized movers).
     let poses = subscribe::<PoseArray>(&mut c, "/planar_node/mover_poses", PoseArray::type_name());
-    let (p, _) = within(20.0, "mover poses", poses.async_take()).await.unwrap();
+    let (p, _) = within(20.0, "mover poses", poses.async_take())
+        .await
+        .unwrap();
     assert_eq!(p.header.frame_id, "planar_env");
     assert_eq!(p.poses.len(), 2);
-    assert!((p.poses[1].position.x - 0.6).abs() < 1e-9 && (p.poses[1].position.y - 0.36).abs() < 1e-9, "{p:?}");
-    let markers = subscribe::<MarkerArray>(&mut c, "/planar_node/markers", MarkerArray::type_name());
+    assert!(
+        (p.poses[1].position.x - 0.6).abs() < 1e-9 && (p.poses[1].position.y - 0.36).abs() < 1e-9,
+        "{p:?}"
+    );
+    let markers =
+        subscribe::<MarkerArray>(&mut c, "/planar_node/markers", MarkerArray::type_name());
     let (m, _) = within(20.0, "markers", markers.async_take()).await.unwrap();
-    let stators = m.markers.iter().find(|m| m.ns == "stators").expect("stators marker");
+    let stators = m
+        .markers
+        .iter()
+        .find(|m| m.ns == "stators")
+        .expect("stators marker");
     assert_eq!(stators.points.len(), 6);
-    let m2 = m.markers.iter().find(|m| m.ns == "movers" && m.id == 1).expect("m2 marker");
+    let m2 = m
+        .markers
+        .iter()
+        .find(|m| m.ns == "movers" && m.id == 1)
+        .expect("m2 marker");
     assert_eq!(m2.r#type, Marker::CUBE);
     assert!((m2.scale.x - 0.21).abs() < 1e-9);
 
     // Services: enable m1 (Enabling -> Enabled after enable_time), rejections with their ids.
-    let enable = client::<MoverEnableRequest, MoverEnableResponse>(&mut c, "/planar_node/mover_enable", MoverEnable::service_type_name()).await;
-    let r = within(5.0, "enable", enable.async_call_service(MoverEnableRequest { mover: "m1".into() })).await.unwrap();
+    let enable = client::<MoverEnableRequest, MoverEnableResponse>(
+        &mut c,
+        "/planar_node/mover_enable",
+        MoverEnable::service_type_name(),
+    )
+    .await;
+    let r = within(
+        5.0,
+        "enable",
+        enable.async_call_service(MoverEnableRequest { mover: "m1".into() }),
+    )
+    .await
+    .unwrap();
     assert!(r.accepted, "enable: {}", r.message);
     assert_ne!(r.command_id, 0);
-    let bad = within(5.0, "enable unknown", enable.async_call_service(MoverEnableRequest { mover: "nope".into() })).await.unwrap();
+    let bad = within(
+        5.0,
+        "enable unknown",
+        enable.async_call_service(MoverEnableRequest {
+            mover: "nope".into(),
+        }),
+    )
+    .await
+    .unwrap();
     assert!(!bad.accepted);
     assert_eq!(bad.error_id, 0x7F01, "{}", bad.message);
     assert!(bad.message.contains("nope"), "{}", bad.message);
-    wait_state(&states, 20.0, "m1 Enabled", |s| s.movers[0].state == PlanarMoverState::STATE_ENABLED).await;
+    wait_state(&states, 20.0, "m1 Enabled", |s| {
+        s.movers[0].state == PlanarMoverState::STATE_ENABLED
+    })
+    .await;
 
     let mv = client::<MoverMoveToPositionRequest, MoverMoveToPositionResponse>(
         &mut c,
@@ -138,20 +230,53 @@ async fn scenario(mapping: ServiceMapping) {
     )
     .await;
     // m2 is still Disabled: E_INVALID_STATE (xplanar.md §2.1, §6.2).
-    let r = within(5.0, "move disabled mover", mv.async_call_service(MoverMoveToPositionRequest { mover: "m2".into(), x: 500.0, y: 360.0, use_orientation: true, ..Default::default() }))
-        .await
-        .unwrap();
+    let r = within(
+        5.0,
+        "move disabled mover",
+        mv.async_call_service(MoverMoveToPositionRequest {
+            mover: "m2".into(),
+            x: 500.0,
+            y: 360.0,
+            use_orientation: true,
+            ..Default::default()
+        }),
+    )
+    .await
+    .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, E_INVALID_STATE.0, "{}", r.message);
-    let r = within(5.0, "move NaN", mv.async_call_service(MoverMoveToPositionRequest { mover: "m1".into(), x: f64::NAN, y: 100.0, ..Default::default() }))
-        .await
-        .unwrap();
+    let r = within(
+        5.0,
+        "move NaN",
+        mv.async_call_service(MoverMoveToPositionRequest {
+            mover: "m1".into(),
+            x: f64::NAN,
+            y: 100.0,
+            ..Default::default()
+        }),
+    )
+    .await
+    .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, 0x7F02, "{}", r.message);
-    let mc = client::<MoverMoveCRequest, MoverMoveCResponse>(&mut c, "/planar_node/mover_move_c", srv::MoverMoveC::service_type_name()).await;
-    let r = within(5.0, "move_c bad direction", mc.async_call_service(MoverMoveCRequest { mover: "m1".into(), target_position: 5.0, direction: 9, ..Default::default() }))
-        .await
-        .unwrap();
+    let mc = client::<MoverMoveCRequest, MoverMoveCResponse>(
+        &mut c,
+        "/planar_node/mover_move_c",
+        srv::MoverMoveC::service_type_name(),
+    )
+    .await;
+    let r = within(
+        5.0,
+        "move_c bad direction",
+        mc.async_call_service(MoverMoveCRequest {
+            mover: "m1".into(),
+            target_position: 5.0,
+            direction: 9,
+            ..Default::default()
+        }),
+    )
+    .await
+    .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, 0x7F03, "{}", r.message);
 
@@ -165,42 +290,134 @@ async fn scenario(mapping: ServiceMapping) {
             action_qos(),
         )
         .unwrap();
-    within(20.0, "action server discovered", ac.goal_client().wait_for_service(&c.node)).await;
-    within(20.0, "cancel service discovered", ac.cancel_client().wait_for_service(&c.node)).await;
-    within(20.0, "result service discovered", ac.result_client().wait_for_service(&c.node)).await;
-    let goal = MoverMoveToPositionGoal { mover: "m1".into(), x: 300.0, y: 200.0, c: 10.0, use_orientation: true, ..Default::default() };
-    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal)).await.unwrap();
+    discovered("action goal service", || {
+        ac.goal_client().wait_for_service(&c.node)
+    })
+    .await;
+    discovered("action cancel service", || {
+        ac.cancel_client().wait_for_service(&c.node)
+    })
+    .await;
+    discovered("action result service", || {
+        ac.result_client().wait_for_service(&c.node)
+    })
+    .await;
+    let goal = MoverMoveToPositionGoal {
+        mover: "m1".into(),
+        x: 300.0,
+        y: 200.0,
+        c: 10.0,
+        use_orientation: true,
+        ..Default::default()
+    };
+    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal))
+        .await
+        .unwrap();
     assert!(resp.accepted);
-    let (status, result) = within(30.0, "move result", ac.async_request_result(gid)).await.unwrap();
+    let (status, result) = within(30.0, "move result", ac.async_request_result(gid))
+        .await
+        .unwrap();
     assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
     assert!(result.done && !result.error);
     // Spec tolerance ±0.1 mm, ±0.01° (xplanar.md §7).
-    assert!((result.x - 300.0).abs() < 0.1 && (result.y - 200.0).abs() < 0.1, "{result:?}");
+    assert!(
+        (result.x - 300.0).abs() < 0.1 && (result.y - 200.0).abs() < 0.1,
+        "{result:?}"
+    );
     assert!((result.c - 10.0).abs() < 0.01, "{result:?}");
 
     // A goal that fails screening ends Aborted with the error id (unknown mover).
-    let goal = MoverMoveToPositionGoal { mover: "nope".into(), x: 1.0, ..Default::default() };
-    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(goal)).await.unwrap();
-    let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid)).await.unwrap();
+    let goal = MoverMoveToPositionGoal {
+        mover: "nope".into(),
+        x: 1.0,
+        ..Default::default()
+    };
+    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(goal))
+        .await
+        .unwrap();
+    let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid))
+        .await
+        .unwrap();
     assert_eq!(status, GoalStatusEnum::Aborted);
     assert!(result.error);
     assert_eq!(result.error_id, 0x7F01);
 
     // Cancel: a slow move across the table; cancel = the mover's Halt, the goal ends Canceled
     // with the mover stopped short of the target.
-    let goal = MoverMoveToPositionGoal { mover: "m1".into(), x: 300.0, y: 420.0, c: 10.0, velocity: 50.0, use_orientation: true, ..Default::default() };
-    let (gid, resp) = within(10.0, "send slow goal", ac.async_send_goal(goal)).await.unwrap();
+    let goal = MoverMoveToPositionGoal {
+        mover: "m1".into(),
+        x: 300.0,
+        y: 420.0,
+        c: 10.0,
+        velocity: 50.0,
+        use_orientation: true,
+        ..Default::default()
+    };
+    let (gid, resp) = within(10.0, "send slow goal", ac.async_send_goal(goal))
+        .await
+        .unwrap();
     assert!(resp.accepted);
     tokio::time::sleep(std::time::Duration::from_millis(200)).await;
-    let cr = within(10.0, "cancel", ac.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO)).await.unwrap();
+    let cr = within(
+        10.0,
+        "cancel",
+        ac.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
     assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
-    let (status, result) = within(20.0, "canceled result", ac.async_request_result(gid)).await.unwrap();
+    let (status, result) = within(20.0, "canceled result", ac.async_request_result(gid))
+        .await
+        .unwrap();
     assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
     assert!(result.command_aborted && !result.done, "{result:?}");
-    assert!(result.y > 200.0 && result.y < 410.0, "stopped on the way: {result:?}");
+    assert!(
+        result.y > 200.0 && result.y < 410.0,
+        "stopped on the way: {result:?}"
+    );
     // (Older samples are still queued: skip those from before the move.)
-    let s = wait_state(&states, 20.0, "m1 at rest", |s| !s.movers[0].busy_mover && s.movers[0].y > 200.0).await;
-    assert!((s.movers[0].y - result.y).abs() < 5.0, "halted near the cancel point: {} vs {}", s.movers[0].y, result.y);
+    let s = wait_state(&states, 20.0, "m1 at rest", |s| {
+        !s.movers[0].busy_mover && s.movers[0].y > 200.0
+    })
+    .await;
+    assert!(
+        (s.movers[0].y - result.y).abs() < 5.0,
+        "halted near the cancel point: {} vs {}",
+        s.movers[0].y,
+        result.y
+    );
+
+    // The fault-injection hook (xplanar.md §6.2): m2 goes to Error with E_OBJECT_ERROR; a
+    // wrong object kind is an enum error.
+    let inject = client::<PlanarInjectErrorRequest, PlanarInjectErrorResponse>(
+        &mut c,
+        "/planar_node/sim/inject_error",
+        PlanarInjectError::service_type_name(),
+    )
+    .await;
+    let bad = PlanarInjectErrorRequest {
+        kind: 7,
+        name: "m2".into(),
+        reaction: 1,
+    };
+    let r = within(5.0, "inject bad kind", inject.async_call_service(bad))
+        .await
+        .unwrap();
+    assert_eq!(r.error_id, 0x7F03, "{}", r.message);
+    let req = PlanarInjectErrorRequest {
+        kind: PlanarInjectErrorRequest::KIND_MOVER,
+        name: "m2".into(),
+        reaction: 1,
+    };
+    let r = within(5.0, "inject", inject.async_call_service(req))
+        .await
+        .unwrap();
+    assert!(r.accepted, "{}", r.message);
+    let s = wait_state(&states, 20.0, "m2 in Error", |s| {
+        s.movers[1].state == PlanarMoverState::STATE_ERROR
+    })
+    .await;
+    assert_eq!(s.movers[1].error_id, E_OBJECT_ERROR.0);
 
     drop(c);
     node.stop().await;
@@ -210,6 +427,6 @@ async fn scenario(mapping: ServiceMapping) {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn planar_node_over_dds_both_mappings() {
     require_netns();
-    scenario(ServiceMapping::Enhanced).await;
     scenario(ServiceMapping::Cyclone).await;
+    scenario(ServiceMapping::Enhanced).await;
 }

@@ -37,3 +37,8 @@ fn run_peer_test(script: &str, domain: u16) {
 fn cyclonedds_peer_drives_axis_node() {
     run_peer_test("test_axis_node.py", 201);
 }
+
+#[test]
+fn cyclonedds_peer_drives_planar_node() {
+    run_peer_test("test_planar_node.py", 202);
+}

@@ -1,0 +1,9 @@
+//! `planar_node [CONFIG.yaml]`: runs the planar_node entries of a launch config.
+
+fn main() {
+    std::process::exit(motion_runtime::launch::main_with(
+        "planar_node",
+        &[planar_node::NODE_KIND],
+        "launch-configs/demo.yaml",
+    ));
+}
