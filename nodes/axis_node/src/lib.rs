@@ -27,15 +27,17 @@ pub const NODE_KIND: NodeKind = NodeKind { kind: KIND, start: start_boxed, check
 
 /// Checks an `axis_node` entry's engine part (`--check`): parse and build the engine.
 pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
-    engine(engine_cfg, location).map(|_| ())
+    build(parse(engine_cfg, location)?.0, location).map(|_| ())
 }
 
-fn engine(engine_cfg: serde_yaml::Value, location: &str) -> Result<(AxisEngine, Vec<String>), ConfigError> {
+fn parse(engine_cfg: serde_yaml::Value, location: &str) -> Result<(AxisNodeConfig, Vec<String>), ConfigError> {
     let cfg = AxisNodeConfig::from_yaml(engine_cfg, location)?;
-    let names: Vec<String> = cfg.axes.iter().map(|(n, _)| n.clone()).collect();
-    let engine = AxisEngine::new(cfg.axes)
-        .map_err(|r| ConfigError { location: format!("{location}.axes"), message: r.message })?;
-    Ok((engine, names))
+    let names = cfg.axes.iter().map(|(n, _)| n.clone()).collect();
+    Ok((cfg, names))
+}
+
+fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
+    AxisEngine::new(cfg.axes).map_err(|r| ConfigError { location: format!("{location}.axes"), message: r.message })
 }
 
 /// The engine part of an `axis_node` entry of a launch config.
@@ -87,7 +89,12 @@ pub fn start(
     location: &str,
     domain_id: u16,
 ) -> Result<AxisNode, StartError> {
-    let (engine, names) = engine(engine_cfg, location)?;
+    let (mut cfg, names) = parse(engine_cfg, location)?;
+    // AxisCycleTime (1050) reports the node's cycle: the engine integrates with its tick.
+    for (_, c) in &mut cfg.axes {
+        c.cycle_time = common.cycle_period;
+    }
+    let engine = build(cfg, location)?;
     let params = vec![("axes".to_string(), ParameterValue::StringArray(names.clone()))];
     Ok(NodeHost::start(KIND, common, domain_id, engine, params, |shell| setup(shell, names))?)
 }

@@ -301,7 +301,7 @@ fn register_stop(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
                     Some(id) => handle.call(AxisCommand::SetExecute { id, execute: false }).await,
                     // No MC_Stop instance is held for this axis: a falling edge changes nothing.
                     None if known_axis(&handle, &r.axis) => {
-                        Ok(AxisReply { id: CmdId(0), value: ReplyValue::None })
+                        Ok(AxisReply { id: CmdId(0), value: ReplyValue::None, tracked: false })
                     }
                     None => Err(Rejection::unknown_object("axis", &r.axis)),
                 }

@@ -13,3 +13,4 @@ pub mod trajectory;
 pub use engine::{Engine, Tick};
 pub use error_id::ErrorId;
 pub use fb::{CmdId, CommandEvent, CommandState, ExecuteOutputs, Rejection};
+pub use trajectory::{Limits, Profile1, State1, TrajectoryError};

@@ -1,0 +1,1092 @@
+//! One simulated axis: setpoint generator jobs, actual-value model, monitoring and the error
+//! reaction (single_axis.md §1.1, §1.3, §1.4). The per-cycle order of §1.1 is in
+//! [`Axis::step`]: (2) state/buffer logic, (3) setpoint generator, (4) actual values,
+//! (5) monitoring; (1) happened in `AxisEngine::command`, (6) is the event queue.
+
+use crate::config::{AxisConfig, FollowingModel};
+use crate::error_ids;
+use crate::handshake::Handshake;
+use crate::modulo;
+use crate::snapshot::{axis_state, bits, AxisStatus};
+use crate::state::{derive_state, MotionState, StateFacts};
+use motion_core::{CmdId, ErrorId, Limits, Profile1, State1};
+use std::collections::BTreeMap;
+
+/// What the setpoint generator is doing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum JobKind {
+    /// Discrete move to `target` (MoveAbsolute/Relative/Additive/Modulo).
+    Position,
+    /// Endless motion (MoveVelocity); also an orphan after an override change.
+    Velocity,
+    /// MC_Halt ramp, or the stop after a missing feed enable (no owner).
+    Halt,
+    /// MC_Stop ramp.
+    Stop,
+    /// Error reaction / MC_Reset while moving: AxisFastDec/AxisFastJerk.
+    FastStop,
+}
+
+/// The running job of the setpoint generator.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Job {
+    pub owner: Option<CmdId>,
+    pub kind: JobKind,
+    pub profile: Profile1,
+    /// Time since the profile start \[s\].
+    pub t: f64,
+    /// Coordinate shift added by MC_SetPosition while running \[u\].
+    pub offset: f64,
+    /// Target (Position) or stop point (Halt/Stop/FastStop), in profile coordinates.
+    pub target: f64,
+    /// Commanded velocity (> 0) before override \[u/s\].
+    pub velocity: f64,
+    /// Travel direction (±1) of Velocity jobs.
+    pub dir: f64,
+    /// Dynamics (velocity field = commanded velocity).
+    pub limits: Limits,
+    /// Signed velocity at the end (blending transition), 0 = stop at the target.
+    pub end_vel: f64,
+    /// Done waits for the position monitoring (§3.7).
+    pub monitor: bool,
+    /// Override 0: the job stands still but stays active.
+    pub paused: bool,
+    /// MoveVelocity converted to a run to a blending position ends with CommandAborted.
+    pub owner_aborts_at_end: bool,
+    /// MC_MoveContinuousAbsolute/Relative: endless after reaching the target (§4.8.7).
+    pub continuous: bool,
+    /// Endless motion at constant velocity: the profile is a `hold`, nothing ends any more.
+    pub held: bool,
+}
+
+/// A command waiting in the buffer (§3.6: at most one).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Pending {
+    pub owner: CmdId,
+    pub spec: Spec,
+}
+
+/// A motion request, resolved at admission.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Spec {
+    /// Move to an absolute target.
+    Position {
+        target: f64,
+        limits: Limits,
+        monitor: bool,
+    },
+    /// Endless motion in direction `dir`.
+    Velocity { dir: f64, limits: Limits },
+    /// MC_Halt with the given dynamics.
+    Halt { limits: Limits, monitor: bool },
+    /// MC_MoveContinuousAbsolute/Relative: to `target`, arriving with `end_velocity` (≥ 0).
+    Continuous {
+        target: f64,
+        end_velocity: f64,
+        limits: Limits,
+    },
+}
+
+/// The MC_Stop lock (§4.8.10).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lock {
+    pub owner: CmdId,
+    pub execute: bool,
+    pub at_rest: bool,
+    /// Options.EnableStopPositionMonitoring: Done waits for InTargetPosition (§3.7).
+    pub monitor: bool,
+    /// Done has been reported (the unlock counts from then).
+    pub done: bool,
+    /// Cycles left until unlock once at rest with Execute FALSE (proposal: 2).
+    pub unlock_in: u8,
+}
+
+/// A finished positioning command waiting for InTargetPosition (§3.7).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Settle {
+    pub owner: CmdId,
+    pub elapsed: f64,
+}
+
+/// Runtime state of one axis.
+#[derive(Clone, Debug)]
+pub(crate) struct Axis {
+    pub name: String,
+    pub cfg: AxisConfig,
+    /// Parameters without simulator effect, by NC index offset (§6).
+    pub other_params: BTreeMap<u32, f64>,
+    // MC_Power (§4.1)
+    pub enable: bool,
+    pub enable_positive: bool,
+    pub enable_negative: bool,
+    /// Effective override \[%\] (`PlcToNc.Override`).
+    pub override_pct: f64,
+    /// Override written by MC_Power \[%\].
+    pub power_override: f64,
+    /// MC_SetOverride while enabled (VelFactor × 100) \[%\]; has precedence (§4.7.10).
+    pub set_override: Option<f64>,
+    pub controller_on: bool,
+    pub status: bool,
+    pub status_pending: bool,
+    pub power_off_pending: bool,
+    // Errors (§1.4)
+    pub error_id: ErrorId,
+    pub drive_fault: bool,
+    // Kinematics
+    pub set: State1,
+    pub act_pos: f64,
+    pub act_velo: f64,
+    pub act_acc: f64,
+    pub following_offset: f64,
+    /// Raw machine position = SetPos − coordinate offset (SetPosition/homing).
+    pub coord_offset: f64,
+    pub set_position_offset: f64,
+    pub homed: bool,
+    // Jobs
+    pub job: Option<Job>,
+    pub pending: Option<Pending>,
+    pub settle: Option<Settle>,
+    pub lock: Option<Lock>,
+    pub reset_waiting: Option<CmdId>,
+    /// MC_MoveContinuous* that reached its target with EndVelocity 0: Busy/Active with
+    /// InEndVelocity until replaced (§4.8.7).
+    pub idle_owner: Option<CmdId>,
+    /// Armed latches: unit 1, unit 2, PlcEvent.
+    pub probes: [Option<crate::probe::Probe>; 3],
+    /// Virtual probe input levels of units 1 and 2 (this and the previous cycle).
+    pub probe_level: [bool; 2],
+    pub probe_prev: [bool; 2],
+    /// Superposition (MC_MoveSuperImposed).
+    pub overlay: Option<crate::superposition::Overlay>,
+    /// Torque mode (MC_TorqueControl).
+    pub torque: Option<crate::torque::TorqueJob>,
+    /// SetTorque \[%\] (kept after torque mode ends).
+    pub set_torque: f64,
+    /// Coupling as slave (MC_GearIn).
+    pub coupling: Option<crate::gearing::Coupling>,
+    /// Homing run (MC_Home DefaultHoming).
+    pub homing: Option<crate::homing::Homing>,
+    pub target_pos: f64,
+    /// Last commanded target for MC_MoveAdditive (§4.8.3); None = unknown.
+    pub last_target: Option<f64>,
+    /// Deceleration and jerk of the last move (MC_Halt/MC_Stop defaults).
+    pub last_dec: f64,
+    pub last_jerk: f64,
+    pub cmd_no: u16,
+    pub has_been_stopped: bool,
+    // Monitoring (§1.3)
+    pub in_target_timer: f64,
+    pub in_target: bool,
+    pub lag_timer: f64,
+}
+
+/// Velocities below this count as standstill \[u/s\].
+const V_REST: f64 = 1e-9;
+
+impl Axis {
+    pub fn new(name: String, cfg: AxisConfig) -> Self {
+        let p = cfg.initial_position;
+        Axis {
+            name,
+            other_params: BTreeMap::new(),
+            enable: false,
+            enable_positive: false,
+            enable_negative: false,
+            override_pct: 100.0,
+            power_override: 100.0,
+            set_override: None,
+            controller_on: false,
+            status: false,
+            status_pending: false,
+            power_off_pending: false,
+            error_id: ErrorId::NONE,
+            drive_fault: false,
+            set: State1::at_rest(p),
+            act_pos: p,
+            act_velo: 0.0,
+            act_acc: 0.0,
+            following_offset: 0.0,
+            coord_offset: 0.0,
+            set_position_offset: 0.0,
+            homed: false,
+            job: None,
+            pending: None,
+            settle: None,
+            lock: None,
+            reset_waiting: None,
+            idle_owner: None,
+            coupling: None,
+            torque: None,
+            set_torque: 0.0,
+            overlay: None,
+            probes: [None; 3],
+            probe_level: [false; 2],
+            probe_prev: [false; 2],
+            homing: None,
+            target_pos: p,
+            last_target: None,
+            last_dec: cfg.deceleration,
+            last_jerk: cfg.jerk,
+            cmd_no: 0,
+            has_been_stopped: false,
+            in_target_timer: 0.0,
+            in_target: false,
+            lag_timer: 0.0,
+            cfg,
+        }
+    }
+
+    // ---------------------------------------------------------------- state (§2.3)
+
+    pub fn facts(&self) -> StateFacts {
+        let kind = self.job.map(|j| j.kind);
+        StateFacts {
+            error: !self.error_id.is_none(),
+            operational: self.controller_on && self.status,
+            stopping: self.lock.is_some(),
+            homing: self.homing.is_some(),
+            coupled: self.coupling.is_some(),
+            continuous: kind == Some(JobKind::Velocity)
+                || self.job.is_some_and(|j| j.continuous)
+                || self.torque.is_some(),
+            has_job: self.job.is_some() || self.torque.is_some(),
+        }
+    }
+
+    pub fn state(&self) -> MotionState {
+        derive_state(&self.facts())
+    }
+
+    pub fn moving(&self) -> bool {
+        self.set.vel.abs() > V_REST || self.set.acc.abs() > V_REST
+    }
+
+    /// The current set state in job coordinates.
+    fn job_start_state(&self) -> State1 {
+        self.set
+    }
+
+    // ---------------------------------------------------------------- dynamics
+
+    /// Effective velocity limit with override (§1.1). `v` > 0.
+    pub fn effective_velocity(&self, v: f64) -> f64 {
+        v * self.override_pct / 100.0
+    }
+
+    /// Plans a position job profile from the current set state under the override.
+    pub fn plan_position(&self, target: f64, end_vel: f64, limits: &Limits) -> Option<Profile1> {
+        let v = self.effective_velocity(limits.velocity);
+        if v <= 0.0 {
+            return Profile1::stopping(self.job_start_state(), &self.stop_limits(limits)).ok();
+        }
+        let end_vel = end_vel.clamp(-v, v);
+        let l = Limits {
+            velocity: v,
+            ..*limits
+        };
+        Profile1::to_position(self.job_start_state(), target, end_vel, &l).ok()
+    }
+
+    /// Enabled software limit in direction `dir` (§1.3).
+    pub fn soft_limit(&self, dir: f64) -> Option<f64> {
+        if dir > 0.0 && self.cfg.en_max_soft_pos_limit {
+            Some(self.cfg.max_soft_pos_limit)
+        } else if dir < 0.0 && self.cfg.en_min_soft_pos_limit {
+            Some(self.cfg.min_soft_pos_limit)
+        } else {
+            None
+        }
+    }
+
+    /// Plans an endless motion; with an enabled software limit in the travel direction it is
+    /// planned to stop exactly at the limit (§1.3). Returns the profile and that limit.
+    pub fn plan_velocity(&self, dir: f64, limits: &Limits) -> Option<(Profile1, Option<f64>)> {
+        if let Some(lim) = self.soft_limit(dir) {
+            let p = if (lim - self.set.pos) * dir > 0.0 {
+                self.plan_position(lim, 0.0, limits)?
+            } else {
+                self.plan_stop(limits)
+            };
+            return Some((p, Some(lim)));
+        }
+        self.plan_velocity_free(dir, limits).map(|p| (p, None))
+    }
+
+    pub(crate) fn plan_velocity_free_pub(&self, dir: f64, limits: &Limits) -> Option<Profile1> {
+        self.plan_velocity_free(dir, limits)
+    }
+
+    fn plan_velocity_free(&self, dir: f64, limits: &Limits) -> Option<Profile1> {
+        let v = self.effective_velocity(limits.velocity);
+        let l = Limits {
+            velocity: limits.velocity.max(self.set.vel.abs()).max(1e-9),
+            ..*limits
+        };
+        Profile1::to_velocity(self.job_start_state(), dir * v, &l).ok()
+    }
+
+    /// Limits for a stop ramp: the velocity bound must not be below the current velocity.
+    pub fn stop_limits(&self, l: &Limits) -> Limits {
+        Limits {
+            velocity: l
+                .velocity
+                .max(self.set.vel.abs())
+                .max(self.cfg.max_velocity),
+            acceleration: l.acceleration.max(l.deceleration),
+            ..*l
+        }
+    }
+
+    pub fn plan_stop(&self, l: &Limits) -> Profile1 {
+        Profile1::stopping(self.job_start_state(), &self.stop_limits(l))
+            .unwrap_or_else(|_| Profile1::hold(State1::at_rest(self.set.pos)))
+    }
+
+    /// Installs a new job (clears the in-target monitor).
+    pub fn start_job(&mut self, job: Job) {
+        self.in_target = false;
+        self.in_target_timer = 0.0;
+        self.target_pos = match job.kind {
+            JobKind::Velocity => self.set.pos,
+            _ => job.target,
+        };
+        self.job = Some(job);
+    }
+
+    /// Starts a job from a resolved spec at the current set state. False if planning failed.
+    pub fn start_spec(&mut self, owner: CmdId, spec: Spec, fbs: &mut Handshake) -> bool {
+        let job = match spec {
+            Spec::Position {
+                target,
+                limits,
+                monitor,
+            } => {
+                let Some(profile) = self.plan_position(target, 0.0, &limits) else {
+                    return false;
+                };
+                self.last_target = Some(target);
+                Job {
+                    owner: Some(owner),
+                    kind: JobKind::Position,
+                    profile,
+                    t: 0.0,
+                    offset: 0.0,
+                    target,
+                    velocity: limits.velocity,
+                    dir: 0.0,
+                    limits,
+                    end_vel: 0.0,
+                    monitor,
+                    paused: self.override_pct <= 0.0,
+                    owner_aborts_at_end: false,
+                    continuous: false,
+                    held: false,
+                }
+            }
+            Spec::Velocity { dir, limits } => {
+                let Some((profile, soft_limit)) = self.plan_velocity(dir, &limits) else {
+                    return false;
+                };
+                self.last_target = None;
+                Job {
+                    owner: Some(owner),
+                    kind: JobKind::Velocity,
+                    profile,
+                    t: 0.0,
+                    offset: 0.0,
+                    // A finite target on a Velocity job = planned stop at a software limit.
+                    target: soft_limit.unwrap_or(f64::NAN),
+                    velocity: limits.velocity,
+                    dir,
+                    limits,
+                    end_vel: 0.0,
+                    monitor: false,
+                    paused: self.override_pct <= 0.0,
+                    owner_aborts_at_end: false,
+                    continuous: false,
+                    held: false,
+                }
+            }
+            Spec::Continuous {
+                target,
+                end_velocity,
+                limits,
+            } => {
+                let d = target - self.set.pos;
+                let dir = if d.abs() > 1e-12 {
+                    d.signum()
+                } else if self.set.vel.abs() > 1e-9 {
+                    self.set.vel.signum()
+                } else {
+                    1.0
+                };
+                let l = Limits {
+                    velocity: limits.velocity.max(end_velocity),
+                    ..limits
+                };
+                let Some(profile) = self.plan_position(target, dir * end_velocity, &l) else {
+                    return false;
+                };
+                self.last_target = None;
+                Job {
+                    owner: Some(owner),
+                    kind: JobKind::Position,
+                    profile,
+                    t: 0.0,
+                    offset: 0.0,
+                    target,
+                    velocity: limits.velocity,
+                    dir,
+                    limits: l,
+                    end_vel: dir * end_velocity,
+                    monitor: false,
+                    paused: self.override_pct <= 0.0,
+                    owner_aborts_at_end: true,
+                    continuous: true,
+                    held: false,
+                }
+            }
+            Spec::Halt { limits, monitor } => {
+                if !self.moving() && self.job.is_none() {
+                    // MC_Halt at standstill: Done after one cycle (§4.8.9).
+                    self.last_target = Some(self.set.pos);
+                    fbs.active(owner);
+                    self.settle = None;
+                    return self.finish_halt_at_rest(owner, fbs);
+                }
+                let profile = self.plan_stop(&limits);
+                let stop = profile.end().pos;
+                self.last_target = Some(stop);
+                Job {
+                    owner: Some(owner),
+                    kind: JobKind::Halt,
+                    profile,
+                    t: 0.0,
+                    offset: 0.0,
+                    target: stop,
+                    velocity: limits.velocity,
+                    dir: 0.0,
+                    limits,
+                    end_vel: 0.0,
+                    monitor: monitor && self.cfg.en_target_position_monitoring,
+                    paused: false,
+                    owner_aborts_at_end: false,
+                    continuous: false,
+                    held: false,
+                }
+            }
+        };
+        self.has_been_stopped = false;
+        fbs.active(owner);
+        self.start_job(job);
+        true
+    }
+
+    fn finish_halt_at_rest(&mut self, owner: CmdId, fbs: &mut Handshake) -> bool {
+        // Reported Done in the next step (instantaneous command rule, §3.1 rule 2).
+        self.job = Some(Job {
+            owner: Some(owner),
+            kind: JobKind::Halt,
+            profile: Profile1::hold(State1::at_rest(self.set.pos)),
+            t: 0.0,
+            offset: 0.0,
+            target: self.set.pos,
+            velocity: 1.0,
+            dir: 0.0,
+            limits: Limits {
+                velocity: 1.0,
+                acceleration: 1.0,
+                deceleration: 1.0,
+                jerk: 1.0,
+            },
+            end_vel: 0.0,
+            monitor: false,
+            paused: false,
+            owner_aborts_at_end: false,
+            continuous: false,
+            held: false,
+        });
+        let _ = fbs;
+        true
+    }
+
+    // ---------------------------------------------------------------- aborting
+
+    /// Ends every command of this axis (running, buffered, settling, stop lock) with `how`.
+    pub fn end_all(&mut self, fbs: &mut Handshake, how: End) {
+        let mut ids = [None; 7];
+        ids[5] = self.idle_owner.take();
+        ids[6] = self.torque.take().map(|t| t.owner);
+        ids[0] = self.job.as_ref().and_then(|j| j.owner);
+        ids[1] = self.pending.map(|p| p.owner);
+        ids[2] = self.settle.map(|s| s.owner);
+        ids[3] = self.lock.map(|l| l.owner);
+        ids[4] = self.reset_waiting;
+        for id in ids.into_iter().flatten() {
+            if Some(id) == self.reset_waiting && how == End::Aborted {
+                // An MC_Reset waiting for rest is not a motion command; it completes.
+                continue;
+            }
+            match how {
+                End::Aborted => fbs.aborted(id),
+                End::Error(e) => fbs.error(id, e),
+            }
+            if let Some(i) = fbs.get_mut(id) {
+                i.locked = false;
+            }
+        }
+        self.pending = None;
+        self.settle = None;
+        if let Some(j) = self.job.as_mut() {
+            j.owner = None;
+        }
+        if let Some(o) = self.overlay.take() {
+            match how {
+                End::Aborted => self.end_overlay(o, fbs, true),
+                End::Error(e) => {
+                    fbs.error(o.owner, e);
+                    if let Some((id, _, _)) = o.abort {
+                        fbs.error(id, e);
+                    }
+                }
+            }
+        }
+        if let Some(h) = self.homing {
+            let e = match how {
+                End::Aborted => None,
+                End::Error(e) => Some(e),
+            };
+            self.end_homing(fbs, e, h);
+        }
+    }
+
+    /// Ends the running job's owner, the buffered and the settling command (an aborting
+    /// command takes over, §3.6 rule 2). The running profile stays until replaced.
+    pub fn abort_motion(&mut self, fbs: &mut Handshake) {
+        if let Some(j) = self.job.as_mut() {
+            if let Some(id) = j.owner.take() {
+                fbs.aborted(id);
+            }
+        }
+        if let Some(p) = self.pending.take() {
+            fbs.aborted(p.owner);
+        }
+        if let Some(s) = self.settle.take() {
+            fbs.aborted(s.owner);
+        }
+        if let Some(o) = self.idle_owner.take() {
+            fbs.aborted(o);
+        }
+        if let Some(t) = self.torque.take() {
+            fbs.aborted(t.owner);
+        }
+        if let Some(h) = self.homing {
+            self.end_homing(fbs, None, h);
+        }
+    }
+
+    // ---------------------------------------------------------------- errors (§1.4)
+
+    /// Raises an axis error: all FBs end with Error, fast stop (or at once for a drive
+    /// fault), state ErrorStop in the same cycle.
+    pub fn raise_error(&mut self, id: ErrorId, drive_fault: bool, fbs: &mut Handshake) {
+        if self.error_id.is_none() {
+            self.error_id = id;
+        }
+        // A slave error decouples the slave (§1.4, §2.5).
+        if let Some(id) = self
+            .coupling
+            .take()
+            .and_then(|c| c.dynamic)
+            .and_then(|d| d.owner)
+        {
+            fbs.error(id, self.error_id);
+        }
+        self.end_all(fbs, End::Error(id));
+        self.lock = None;
+        if let Some(r) = self.reset_waiting.take() {
+            fbs.error(r, id);
+        }
+        if drive_fault {
+            self.drive_fault = true;
+            self.status = false;
+            self.status_pending = false;
+            self.halt_immediately();
+        } else if self.moving() {
+            let l = self.fast_limits();
+            let profile = self.plan_stop(&l);
+            let stop = profile.end().pos;
+            self.start_job(Job::internal(JobKind::FastStop, profile, stop, l));
+        } else {
+            self.job = None;
+        }
+    }
+
+    pub fn fast_limits(&self) -> Limits {
+        Limits {
+            velocity: self.cfg.max_velocity,
+            acceleration: self.cfg.fast_acceleration,
+            deceleration: self.cfg.fast_deceleration,
+            jerk: self.cfg.fast_jerk,
+        }
+    }
+
+    /// Velocity 0 at once (power off, drive fault).
+    pub fn halt_immediately(&mut self) {
+        self.job = None;
+        self.set.vel = 0.0;
+        self.set.acc = 0.0;
+        self.act_velo = 0.0;
+        self.act_acc = 0.0;
+        self.target_pos = self.set.pos;
+    }
+
+    // ---------------------------------------------------------------- cycle
+
+    /// One cycle of this axis.
+    pub fn step(
+        &mut self,
+        dt: f64,
+        master: Option<crate::gearing::MasterState>,
+        fbs: &mut Handshake,
+    ) {
+        // (2) state machine and buffer logic
+        if self.status_pending {
+            self.status_pending = false;
+            self.status = self.controller_on && !self.drive_fault;
+        }
+        if let Some(lock) = self.lock.as_mut() {
+            if lock.at_rest && lock.done && !lock.execute {
+                if lock.unlock_in == 0 {
+                    let owner = lock.owner;
+                    self.lock = None;
+                    if let Some(i) = fbs.get_mut(owner) {
+                        // Unlocked with Execute FALSE: Busy/Active fall, Done is reset.
+                        i.locked = false;
+                        i.cleared = true;
+                    }
+                } else {
+                    lock.unlock_in -= 1;
+                }
+            }
+        }
+
+        // (3) setpoint generator (a coupled slave follows its master instead)
+        let had_job = self.job.is_some();
+        let prev_pos = self.set.pos;
+        let prev_raw = self.act_pos - self.coord_offset;
+        if let (Some(c), Some(m)) = (self.coupling, master) {
+            self.follow(c, &m, dt, fbs);
+        } else if self.torque.is_some() {
+            self.torque_step(dt, fbs);
+        } else if let Some(job) = self.job.as_mut() {
+            job.t += dt;
+            let s = job.profile.at(job.t);
+            self.set = State1 {
+                pos: s.pos + job.offset,
+                vel: s.vel,
+                acc: s.acc,
+            };
+            if job.t >= job.profile.duration() && !job.held {
+                self.job_end(fbs);
+            }
+        }
+        if self.power_off_pending && self.job.is_none() {
+            self.power_off_pending = false;
+            self.switch_off(fbs);
+        }
+
+        if self.overlay.is_some() {
+            self.overlay_step(prev_pos, dt, fbs);
+        }
+
+        // (4) actual values
+        match self.cfg.following_model {
+            FollowingModel::Ideal => {
+                self.act_pos = self.set.pos + self.following_offset;
+                self.act_velo = self.set.vel;
+                self.act_acc = self.set.acc;
+            }
+            FollowingModel::FirstOrder => {
+                let v = self.set.vel
+                    + self.cfg.position_control_kv
+                        * (self.set.pos + self.following_offset - self.act_pos);
+                self.act_acc = (v - self.act_velo) / dt;
+                self.act_velo = v;
+                self.act_pos += v * dt;
+            }
+        }
+
+        if self.homing.is_some() {
+            self.homing_step(fbs);
+        }
+        if self.probes.iter().any(|p| p.is_some()) {
+            self.probe_step(prev_raw, fbs);
+        } else {
+            self.probe_prev = self.probe_level;
+        }
+
+        // (5) monitoring
+        self.monitor(dt, had_job, fbs);
+    }
+
+    fn job_end(&mut self, fbs: &mut Handshake) {
+        let Some(job) = self.job else { return };
+        match job.kind {
+            JobKind::Velocity if job.target.is_finite() && !job.paused => {
+                // Endless motion stopped at the software limit: FB Error 0x4D02, axis stays
+                // operational (§1.3).
+                self.set = State1::at_rest(job.profile.end().pos + job.offset);
+                self.target_pos = self.set.pos;
+                self.job = None;
+                if let Some(id) = job.owner {
+                    fbs.error(id, error_ids::SOFT_LIMIT_STOP);
+                }
+            }
+            JobKind::Velocity => {
+                let Some(j) = self.job.as_mut() else { return };
+                if !j.paused {
+                    if let Some(id) = j.owner {
+                        if let Some(i) = fbs
+                            .get_mut(id)
+                            .filter(|i| i.kind == crate::handshake::FbKind::MoveVelocity)
+                        {
+                            i.in_velocity = true;
+                        }
+                    }
+                }
+                // Rebase: constant velocity from here, keeps long runs exact.
+                j.profile = Profile1::hold(State1 {
+                    pos: self.set.pos - j.offset,
+                    vel: self.set.vel,
+                    acc: 0.0,
+                });
+                j.t = 0.0;
+                j.held = true;
+                self.set.acc = 0.0;
+            }
+            JobKind::Position if job.paused => {}
+            JobKind::Position => {
+                let end = job.profile.end();
+                self.set = State1 {
+                    pos: end.pos + job.offset,
+                    vel: end.vel,
+                    acc: 0.0,
+                };
+                self.target_pos = self.set.pos;
+                self.job = None;
+                if job.continuous && self.pending.is_none() {
+                    // Target reached with EndVelocity: InEndVelocity; endless from here.
+                    if let Some(id) = job.owner {
+                        if let Some(i) = fbs.get_mut(id) {
+                            i.in_velocity = true;
+                        }
+                    }
+                    if job.end_vel != 0.0 {
+                        let mut j = Job::internal(
+                            JobKind::Velocity,
+                            Profile1::hold(self.set),
+                            f64::NAN,
+                            job.limits,
+                        );
+                        j.owner = job.owner;
+                        j.dir = job.end_vel.signum();
+                        j.velocity = job.end_vel.abs();
+                        self.job = Some(j);
+                    } else {
+                        self.idle_owner = job.owner;
+                    }
+                    return;
+                }
+                if let Some(p) = self.pending.take() {
+                    // Buffered/blended follow-up takes over at the end position (§3.6 rule 7).
+                    if let Some(id) = job.owner {
+                        if job.owner_aborts_at_end {
+                            fbs.aborted(id)
+                        } else {
+                            fbs.done(id)
+                        }
+                    }
+                    self.take_over(p, fbs);
+                } else if let Some(id) = job.owner {
+                    if job.monitor
+                        && (self.cfg.en_target_position_monitoring
+                            || self.cfg.en_position_range_monitoring)
+                    {
+                        self.settle = Some(Settle {
+                            owner: id,
+                            elapsed: 0.0,
+                        });
+                    } else {
+                        fbs.done(id);
+                    }
+                }
+            }
+            JobKind::Halt => {
+                self.set = State1::at_rest(job.target + job.offset);
+                self.target_pos = self.set.pos;
+                self.job = None;
+                if let Some(p) = self.pending.take() {
+                    if let Some(id) = job.owner {
+                        fbs.done(id);
+                    }
+                    self.take_over(p, fbs);
+                } else if let Some(id) = job.owner {
+                    if job.monitor {
+                        self.settle = Some(Settle {
+                            owner: id,
+                            elapsed: 0.0,
+                        });
+                    } else {
+                        fbs.done(id);
+                    }
+                }
+            }
+            JobKind::Stop => {
+                self.set = State1::at_rest(job.target + job.offset);
+                self.target_pos = self.set.pos;
+                self.job = None;
+                if let Some(lock) = self.lock.as_mut() {
+                    lock.at_rest = true;
+                    lock.unlock_in = 2;
+                    if !lock.monitor {
+                        Self::stop_done(lock, fbs);
+                    }
+                }
+            }
+            JobKind::FastStop => {
+                self.set = State1::at_rest(job.target + job.offset);
+                self.target_pos = self.set.pos;
+                self.job = None;
+                if let Some(r) = self.reset_waiting.take() {
+                    fbs.done(r);
+                }
+            }
+        }
+    }
+
+    /// MC_Stop at rest: Done, with Busy/Active kept while locked (§3.2 exception).
+    fn stop_done(lock: &mut Lock, fbs: &mut Handshake) {
+        lock.done = true;
+        fbs.done(lock.owner);
+        if let Some(i) = fbs.get_mut(lock.owner) {
+            i.locked = true;
+        }
+    }
+
+    /// A buffered command becomes active at the current set state.
+    pub fn take_over(&mut self, p: Pending, fbs: &mut Handshake) {
+        if !self.start_spec(p.owner, p.spec, fbs) {
+            fbs.error(p.owner, error_ids::PARAMETER_NOT_CORRECT);
+        }
+    }
+
+    fn monitor(&mut self, dt: f64, had_job: bool, fbs: &mut Handshake) {
+        // Position lag (§1.3).
+        let pos_diff = self.set.pos - self.act_pos;
+        if self.cfg.en_position_lag_monitoring
+            && self.error_id.is_none()
+            && pos_diff.abs() > self.cfg.max_pos_lag_value
+        {
+            self.lag_timer += dt;
+            if self.lag_timer > self.cfg.max_pos_lag_filter_time + 1e-12 {
+                self.lag_timer = 0.0;
+                self.raise_error(error_ids::POSITION_LAG, false, fbs);
+            }
+        } else {
+            self.lag_timer = 0.0;
+        }
+        // InTargetPosition: inside the window continuously for the monitoring time after
+        // HasJob fell (the cycle in which the job ended does not count).
+        if self.job.is_none() {
+            let inside = (self.act_pos - self.target_pos).abs() <= self.cfg.target_position_window;
+            if inside {
+                if !had_job {
+                    self.in_target_timer += dt;
+                }
+                if self.in_target_timer + 1e-9 >= self.cfg.target_position_monitoring_time {
+                    self.in_target = true;
+                }
+            } else {
+                self.in_target_timer = 0.0;
+                self.in_target = false;
+            }
+        }
+        if let Some(lock) = self.lock.as_mut() {
+            if lock.at_rest && !lock.done && self.in_target {
+                Self::stop_done(lock, fbs);
+            }
+        }
+        if let Some(s) = self.settle.as_mut() {
+            let done = if self.cfg.en_target_position_monitoring {
+                self.in_target
+            } else {
+                (self.act_pos - self.target_pos).abs() <= self.cfg.position_range_window
+            };
+            if done {
+                fbs.done(s.owner);
+                self.settle = None;
+            } else {
+                s.elapsed += dt;
+                if self.cfg.en_in_target_timeout && s.elapsed > self.cfg.in_target_timeout {
+                    fbs.error(s.owner, error_ids::FB_TIMEOUT);
+                    self.settle = None;
+                }
+            }
+        }
+    }
+
+    /// Switches the controller off (Enable↓, §4.1): velocity 0 at once, FBs aborted.
+    pub fn switch_off(&mut self, fbs: &mut Handshake) {
+        if let Some(id) = self
+            .coupling
+            .take()
+            .and_then(|c| c.dynamic)
+            .and_then(|d| d.owner)
+        {
+            fbs.aborted(id);
+        }
+        self.end_all(fbs, End::Aborted);
+        self.lock = None;
+        if let Some(r) = self.reset_waiting.take() {
+            fbs.done(r);
+        }
+        self.halt_immediately();
+        self.controller_on = false;
+        self.status = false;
+        self.status_pending = false;
+    }
+
+    // ---------------------------------------------------------------- status (§5)
+
+    pub fn status(&self) -> AxisStatus {
+        let state = self.state();
+        let has_job = self.job.is_some() || self.torque.is_some();
+        let mut w = 0u32;
+        let mut set = |cond: bool, bit: u32| {
+            if cond {
+                w |= bit
+            }
+        };
+        let moving = self.set.vel.abs() > V_REST;
+        set(
+            self.controller_on && self.status && self.error_id.is_none(),
+            bits::OPERATIONAL,
+        );
+        set(self.homed, bits::HOMED);
+        set(!moving && !has_job, bits::NOT_MOVING);
+        set(
+            !has_job && (self.act_pos - self.target_pos).abs() <= self.cfg.position_range_window,
+            bits::IN_POSITION_AREA,
+        );
+        set(!has_job && self.in_target, bits::IN_TARGET_POSITION);
+        set(self.has_been_stopped, bits::HAS_BEEN_STOPPED);
+        set(self.coupling.is_some(), bits::PROTECTED);
+        set(self.homing.is_some(), bits::HOMING_BUSY);
+        set(self.overlay.is_some(), bits::COMPENSATING);
+        set(has_job, bits::HAS_JOB);
+        set(self.set.vel > V_REST, bits::POSITIVE_DIRECTION);
+        set(self.set.vel < -V_REST, bits::NEGATIVE_DIRECTION);
+        let const_vel = moving && self.set.acc.abs() <= 1e-9;
+        set(const_vel, bits::CONSTANT_VELOCITY);
+        set(
+            self.job
+                .is_some_and(|j| j.kind == JobKind::Velocity || j.continuous),
+            bits::CONTINUOUS_MOTION,
+        );
+        set(self.controller_on && self.status, bits::CONTROL_LOOP_CLOSED);
+        set(self.pending.is_some(), bits::CMD_BUFFERED);
+        set(true, bits::PTP_MODE);
+        set(
+            self.cfg.en_min_soft_pos_limit && self.set.pos < self.cfg.min_soft_pos_limit,
+            bits::SOFT_LIMIT_MIN_EXCEEDED,
+        );
+        set(
+            self.cfg.en_max_soft_pos_limit && self.set.pos > self.cfg.max_soft_pos_limit,
+            bits::SOFT_LIMIT_MAX_EXCEEDED,
+        );
+        set(self.drive_fault, bits::DRIVE_DEVICE_ERROR);
+        set(
+            self.torque.is_some_and(|t| t.clamped),
+            bits::DRIVE_LIMIT_ACTIVE,
+        );
+        set(self.lock.is_some(), bits::MOTION_COMMANDS_LOCKED);
+        set(!self.error_id.is_none(), bits::ERROR);
+        let ax_state = match self.job {
+            None if self.coupling.is_some() => axis_state::SYNCHRON,
+            None => axis_state::INACTIVE,
+            Some(j) if j.paused && !moving => axis_state::OVERRIDE_ZERO,
+            Some(_) if self.set.acc * self.set.vel > 1e-9 => axis_state::PHASE_ACCPOS,
+            Some(_) if self.set.acc * self.set.vel < -1e-9 => axis_state::PHASE_ACCNEG,
+            Some(_) if moving => axis_state::PHASE_VELOCONST,
+            Some(_) => axis_state::RUNNING,
+        };
+        let jerk = self.job.map_or(0.0, |j| j.profile.jerk_at(j.t));
+        let p = self.cfg.modulo_value;
+        AxisStatus {
+            name: self.name.clone(),
+            motion_state: state,
+            state_dword: w,
+            error_code: self.error_id.0,
+            axis_state: ax_state,
+            couple_state: if self.coupling.is_some() { 3 } else { 0 },
+            set_pos: self.set.pos,
+            set_velo: self.set.vel,
+            set_acc: self.set.acc,
+            set_jerk: jerk,
+            act_pos: self.act_pos,
+            act_velo: self.act_velo,
+            act_acc: self.act_acc,
+            pos_diff: self.set.pos - self.act_pos,
+            target_pos: if self.job.is_some_and(|j| j.kind == JobKind::Velocity) {
+                self.set.pos
+            } else {
+                self.target_pos
+            },
+            modulo_act_pos: modulo::modulo(self.act_pos, p),
+            modulo_act_turns: modulo::turns(self.act_pos, p),
+            modulo_set_pos: modulo::modulo(self.set.pos, p),
+            modulo_set_turns: modulo::turns(self.set.pos, p),
+            override_percent: self.override_pct,
+            power_status: self.status,
+            homed: self.homed,
+            has_job,
+            cmd_buffered: self.pending.is_some(),
+            cmd_no: self.cmd_no,
+            homing_state: self.homing.map_or(0, |h| h.phase),
+            raw_pos: self.set.pos - self.coord_offset,
+            set_position_offset: self.set_position_offset,
+            set_torque: self.set_torque,
+        }
+    }
+}
+
+/// How `end_all` ends the commands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum End {
+    Aborted,
+    Error(ErrorId),
+}
+
+impl Job {
+    /// A job without FB owner (error reaction, feed-enable stop).
+    pub fn internal(kind: JobKind, profile: Profile1, target: f64, limits: Limits) -> Job {
+        Job {
+            owner: None,
+            kind,
+            profile,
+            t: 0.0,
+            offset: 0.0,
+            target,
+            velocity: limits.velocity,
+            dir: 0.0,
+            limits,
+            end_vel: 0.0,
+            monitor: false,
+            paused: false,
+            owner_aborts_at_end: false,
+            continuous: false,
+            held: false,
+        }
+    }
+}

@@ -1,0 +1,244 @@
+//! FB instance bookkeeping: the Execute-type handshake of single_axis.md §3.1–§3.3.
+//!
+//! Every admitted command is one FB instance with a [`CmdId`]. Its phase is a
+//! [`CommandState`] (so Busy/Done/Error/CommandAborted are exclusive by construction, §3.2);
+//! the outputs add the Execute rules on top: a falling Execute resets the outputs of a finished
+//! instance (rule 5); a result that arrives while Execute is already FALSE is shown for exactly
+//! one cycle (rule 6). MC_Stop's exception (Done together with Busy/Active while the axis is
+//! locked) and MC_MoveVelocity's InVelocity are extra flags.
+
+use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, ExecuteOutputs};
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+
+/// Which FB an instance belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum FbKind {
+    /// MC_Reset.
+    Reset,
+    /// MC_MoveAbsolute.
+    MoveAbsolute,
+    /// MC_MoveRelative.
+    MoveRelative,
+    /// MC_MoveAdditive.
+    MoveAdditive,
+    /// MC_MoveModulo.
+    MoveModulo,
+    /// MC_MoveVelocity.
+    MoveVelocity,
+    /// MC_MoveContinuousAbsolute.
+    MoveContinuousAbsolute,
+    /// MC_MoveContinuousRelative.
+    MoveContinuousRelative,
+    /// MC_Halt.
+    Halt,
+    /// MC_Stop.
+    Stop,
+    /// MC_SetPosition.
+    SetPosition,
+    /// MC_WriteParameter / MC_WriteBoolParameter.
+    WriteParameter,
+    /// MC_Home.
+    Home,
+    /// MC_Jog.
+    Jog,
+    /// MC_GearIn (Done = InGear).
+    GearIn,
+    /// MC_GearOut.
+    GearOut,
+    /// MC_GearInDyn (Enable-type; InGear while r_eff = GearRatio).
+    GearInDyn,
+    /// MC_TorqueControl.
+    TorqueControl,
+    /// MC_MoveSuperImposed.
+    MoveSuperImposed,
+    /// MC_AbortSuperposition.
+    AbortSuperposition,
+    /// MC_TouchProbe.
+    TouchProbe,
+    /// MC_AbortTrigger.
+    AbortTrigger,
+}
+
+/// All outputs of an Execute-type instance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FbOutputs {
+    /// The standard outputs (Done, Busy, Active, CommandAborted, Error, ErrorID).
+    pub standard: ExecuteOutputs,
+    /// MC_MoveVelocity.InVelocity.
+    pub in_velocity: bool,
+    /// MC_MoveContinuousAbsolute/Relative.InEndVelocity.
+    pub in_end_velocity: bool,
+    /// MC_TorqueControl.InTorque.
+    pub in_torque: bool,
+    /// MC_GearIn / MC_GearInDyn.InGear.
+    pub in_gear: bool,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Instance {
+    pub axis: usize,
+    pub kind: FbKind,
+    pub state: CommandState,
+    pub execute: bool,
+    /// Cycle in which the final state became visible.
+    pub ended_cycle: u64,
+    /// Outputs reset by a falling Execute edge.
+    pub cleared: bool,
+    pub in_velocity: bool,
+    /// MC_Stop: Done while the axis is still locked (Busy and Active stay TRUE).
+    pub locked: bool,
+}
+
+/// Instances above this count are pruned (finished ones first) when a new one is admitted.
+const PRUNE_ABOVE: usize = 4096;
+
+/// The instance table and the event queue.
+#[derive(Debug, Default)]
+pub(crate) struct Handshake {
+    instances: HashMap<CmdId, Instance>,
+    next_id: u64,
+    /// Events not yet handed out by `Engine::step`.
+    pub events: Vec<CommandEvent>,
+    /// Number of steps started so far (the current cycle while `in_step`).
+    pub cycle: u64,
+    /// True while `step` runs (final states then show in this cycle, else in the next).
+    pub in_step: bool,
+    /// Recorded data of MC_TouchProbe instances.
+    pub probes: HashMap<CmdId, crate::probe::ProbeOutputs>,
+    /// Extra outputs of MC_MoveSuperImposed instances.
+    pub superimposed: HashMap<CmdId, crate::superposition::SuperImposedOutputs>,
+}
+
+impl Handshake {
+    pub fn new() -> Self {
+        Handshake {
+            instances: HashMap::with_capacity(256),
+            next_id: 1,
+            events: Vec::with_capacity(256),
+            cycle: 0,
+            in_step: false,
+            superimposed: HashMap::new(),
+            probes: HashMap::new(),
+        }
+    }
+
+    /// A fresh id for calls that do not create a tracked instance (reads, MC_Power).
+    pub fn untracked_id(&mut self) -> CmdId {
+        let id = CmdId(self.next_id);
+        self.next_id += 1;
+        id
+    }
+
+    /// Admits a new instance in `state` (Busy = buffered, Active = in control).
+    pub fn admit(&mut self, axis: usize, kind: FbKind, state: CommandState) -> CmdId {
+        if self.instances.len() > PRUNE_ABOVE {
+            let cycle = self.cycle;
+            self.instances.retain(|_, i| {
+                !(i.state.is_final() && (!i.execute || i.ended_cycle + 1000 < cycle))
+            });
+            let live = &self.instances;
+            self.superimposed.retain(|id, _| live.contains_key(id));
+            self.probes.retain(|id, _| live.contains_key(id));
+        }
+        let id = self.untracked_id();
+        self.instances.insert(
+            id,
+            Instance {
+                axis,
+                kind,
+                state,
+                execute: true,
+                ended_cycle: 0,
+                cleared: false,
+                in_velocity: false,
+                locked: false,
+            },
+        );
+        id
+    }
+
+    pub fn get(&self, id: CmdId) -> Option<&Instance> {
+        self.instances.get(&id)
+    }
+
+    pub fn get_mut(&mut self, id: CmdId) -> Option<&mut Instance> {
+        self.instances.get_mut(&id)
+    }
+
+    /// Moves an instance to `state` and queues the event. Final states never change again.
+    pub fn set(&mut self, id: CmdId, state: CommandState) {
+        let visible = if self.in_step {
+            self.cycle
+        } else {
+            self.cycle + 1
+        };
+        if let Some(i) = self.instances.get_mut(&id) {
+            if i.state.is_final() || i.state == state {
+                return;
+            }
+            i.state = state;
+            if state.is_final() {
+                i.ended_cycle = visible;
+                i.in_velocity = false;
+            }
+            self.events.push(CommandEvent { id, state });
+        }
+    }
+
+    /// Shorthands.
+    pub fn done(&mut self, id: CmdId) {
+        self.set(id, CommandState::Done)
+    }
+    pub fn aborted(&mut self, id: CmdId) {
+        self.set(id, CommandState::Aborted)
+    }
+    pub fn error(&mut self, id: CmdId, e: ErrorId) {
+        self.set(id, CommandState::Error(e))
+    }
+    pub fn active(&mut self, id: CmdId) {
+        self.set(id, CommandState::Active)
+    }
+
+    /// Sets the Execute level (§3.1 rules 5 and 6). Returns the instance (for MC_Stop unlock).
+    pub fn set_execute(&mut self, id: CmdId, execute: bool) -> Option<Instance> {
+        let i = self.instances.get_mut(&id)?;
+        if i.execute && !execute && i.state.is_final() && !i.locked {
+            // Falling edge on a finished instance: outputs reset at once.
+            i.cleared = true;
+        }
+        i.execute = execute;
+        Some(*i)
+    }
+
+    /// The outputs as the FB would show them now.
+    pub fn outputs(&self, id: CmdId) -> Option<FbOutputs> {
+        let i = self.instances.get(&id)?;
+        if i.state.is_final()
+            && !i.execute
+            && !i.locked
+            && (i.cleared || self.cycle > i.ended_cycle)
+        {
+            return Some(FbOutputs::default());
+        }
+        let mut standard = ExecuteOutputs::from(i.state);
+        if i.locked {
+            standard.busy = true;
+            standard.active = true;
+        }
+        let flag = i.in_velocity && !i.state.is_final();
+        let continuous = matches!(
+            i.kind,
+            FbKind::MoveContinuousAbsolute | FbKind::MoveContinuousRelative
+        );
+        Some(FbOutputs {
+            standard,
+            in_velocity: flag && i.kind == FbKind::MoveVelocity,
+            in_end_velocity: flag && continuous,
+            in_torque: flag && i.kind == FbKind::TorqueControl,
+            // MC_GearIn: InGear is its Done (the command is complete once coupled).
+            in_gear: (flag && i.kind == FbKind::GearInDyn)
+                || (i.kind == FbKind::GearIn && standard.done),
+        })
+    }
+}
