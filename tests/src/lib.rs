@@ -1,9 +1,12 @@
 //! Helpers of the system tests: the private-network guard, DDS domains, and a ROS client
 //! node (ros2-client on its own loopback-only Context) to drive our nodes over real DDS.
 
+use motion_core::Engine;
 use motion_runtime::host::CommonConfig;
-use motion_runtime::shell::create_context;
-use ros2_client::{Context, Name, Node, NodeName, NodeOptions, ServiceMapping};
+use motion_runtime::shell::{create_context, service_qos, topic_qos};
+use motion_runtime::NodeHost;
+use ros2_client::action::{ActionClient, ActionClientQosPolicies};
+use ros2_client::{Client, Context, Message, MessageTypeName, Name, Node, NodeName, NodeOptions, ServiceMapping, ServiceTypeName, Subscription};
 use std::sync::atomic::{AtomicU16, Ordering};
 use std::time::Duration;
 
@@ -93,5 +96,88 @@ pub struct AbortOnDrop(pub tokio::task::JoinHandle<()>);
 impl Drop for AbortOnDrop {
     fn drop(&mut self) {
         self.0.abort();
+    }
+}
+
+/// Steps a lockstep node `cycles` cycles every millisecond until dropped (simulated time faster
+/// than real time; a free-running cycle would starve DDS on 2 cores).
+pub fn drive<E: Engine>(node: &NodeHost<E>, cycles: u64) -> AbortOnDrop
+where
+    E::Command: Send,
+    E::Reply: Send,
+{
+    let handle = node.handle();
+    AbortOnDrop(tokio::spawn(async move {
+        while handle.step(cycles).await.is_ok() {
+            tokio::time::sleep(Duration::from_millis(1)).await;
+        }
+    }))
+}
+
+/// Waits for a match, re-checking every 0.5 s: ros2-client's `wait_for_service` watches a
+/// bounded event channel and can miss the match event when a node with many endpoints floods
+/// it; a fresh call sees the match state directly.
+pub async fn discovered<F, Fut>(what: &str, f: F)
+where
+    F: Fn() -> Fut,
+    Fut: std::future::Future<Output = ()>,
+{
+    within(20.0, &format!("{what} discovered"), async {
+        while tokio::time::timeout(Duration::from_millis(500), f()).await.is_err() {}
+    })
+    .await
+}
+
+impl ClientNode {
+    /// A service client on `name`, once the server is matched.
+    pub async fn client<Req, Resp>(&mut self, name: &str, ty: ServiceTypeName) -> Client<Req, Resp>
+    where
+        Req: Message + Clone + 'static,
+        Resp: Message + 'static,
+    {
+        let cl = self
+            .node
+            .create_client::<Req, Resp>(self.mapping, &ClientNode::name(name), &ty, service_qos(), service_qos())
+            .expect("client");
+        discovered(&format!("service {name}"), || cl.wait_for_service(&self.node)).await;
+        cl
+    }
+
+    /// A subscription on `name` with the state-topic QoS.
+    pub fn subscribe<M: Message + 'static>(&mut self, name: &str, ty: MessageTypeName) -> Subscription<M> {
+        let topic = self.node.create_topic(&ClientNode::name(name), ty, &topic_qos()).expect("topic");
+        self.node.create_subscription::<M>(&topic, None).expect("subscription")
+    }
+
+    /// An action client on `name`, once its goal, cancel and result services are matched.
+    pub async fn action<G, R, F>(&mut self, name: &str, ty: &ros2_client::ActionTypeName) -> ActionClient<G, R, F>
+    where
+        G: Message + Clone + 'static,
+        R: Message + Clone + 'static,
+        F: Message + 'static,
+    {
+        let ac = self
+            .node
+            .create_action_client::<G, R, F>(self.mapping, &ClientNode::name(name), ty, action_client_qos())
+            .expect("action client");
+        discovered(&format!("{name} goal service"), || ac.goal_client().wait_for_service(&self.node)).await;
+        discovered(&format!("{name} cancel service"), || ac.cancel_client().wait_for_service(&self.node)).await;
+        discovered(&format!("{name} result service"), || ac.result_client().wait_for_service(&self.node)).await;
+        ac
+    }
+}
+
+/// QoS of action clients, matching rclpy's defaults (status transient-local).
+pub fn action_client_qos() -> ActionClientQosPolicies {
+    use ros2_client::qos::{Durability, History};
+    let status = ros2_client::QosProfile::subscription_default()
+        .history(History::KeepLast { depth: 1 })
+        .durability(Durability::TransientLocal);
+    ActionClientQosPolicies {
+        goal_service: service_qos(),
+        result_service: service_qos(),
+        cancel_service: service_qos(),
+        feedback_subscription: topic_qos(),
+        status_subscription: status,
     }
 }

@@ -16,13 +16,11 @@ use motion_msgs::srv::{
 };
 use motion_msgs::srv::{MoverMoveToPositionRequest, MoverMoveToPositionResponse};
 use motion_msgs::srv::{PlanarInjectError, PlanarInjectErrorRequest, PlanarInjectErrorResponse};
-use motion_runtime::shell::{service_qos, topic_qos};
 use planar_engine::errors::{E_INVALID_STATE, E_OBJECT_ERROR};
 use planar_node::PlanarNode;
-use ros2_client::action::ActionClientQosPolicies;
 use ros2_client::action_msgs::GoalStatusEnum;
-use ros2_client::{Client, ServiceMapping, Subscription};
-use system_tests::{common, require_netns, unique_domain, within, ClientNode};
+use ros2_client::{ServiceMapping, Subscription};
+use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
 
 /// One 3 x 2 stator part, two movers on it.
 const CONFIG: &str = "
@@ -42,81 +40,10 @@ fn start_node(domain: u16, mapping: ServiceMapping) -> PlanarNode {
         .expect("planar node")
 }
 
-/// Steps the lockstep node `cycles` cycles every millisecond until dropped.
-fn drive(node: &PlanarNode, cycles: u64) -> system_tests::AbortOnDrop {
-    let handle = node.handle();
-    system_tests::AbortOnDrop(tokio::spawn(async move {
-        while handle.step(cycles).await.is_ok() {
-            tokio::time::sleep(std::time::Duration::from_millis(1)).await;
-        }
-    }))
-}
 
-async fn client<Req, Resp>(
-    c: &mut ClientNode,
-    name: &str,
-    ty: ros2_client::ServiceTypeName,
-) -> Client<Req, Resp>
-where
-    Req: ros2_client::Message + Clone + 'static,
-    Resp: ros2_client::Message + 'static,
-{
-    let cl = c
-        .node
-        .create_client::<Req, Resp>(
-            c.mapping,
-            &ClientNode::name(name),
-            &ty,
-            service_qos(),
-            service_qos(),
-        )
-        .expect("client");
-    discovered(&format!("service {name}"), || cl.wait_for_service(&c.node)).await;
-    cl
-}
 
-/// Waits for a match, re-checking every 0.5 s: ros2-client's `wait_for_service` watches a
-/// bounded event channel and can miss the match event when a node with many endpoints (this
-/// one has ~150) floods it; a fresh call sees the match state directly.
-async fn discovered<F, Fut>(what: &str, f: F)
-where
-    F: Fn() -> Fut,
-    Fut: std::future::Future<Output = ()>,
-{
-    within(20.0, &format!("{what} discovered"), async {
-        while tokio::time::timeout(std::time::Duration::from_millis(500), f())
-            .await
-            .is_err()
-        {}
-    })
-    .await
-}
 
-fn subscribe<M: ros2_client::Message + 'static>(
-    c: &mut ClientNode,
-    name: &str,
-    ty: ros2_client::MessageTypeName,
-) -> Subscription<M> {
-    let topic = c
-        .node
-        .create_topic(&ClientNode::name(name), ty, &topic_qos())
-        .unwrap();
-    c.node.create_subscription::<M>(&topic, None).unwrap()
-}
 
-fn action_qos() -> ActionClientQosPolicies {
-    use ros2_client::qos::{Durability, History};
-    let status = ros2_client::QosProfile::subscription_default()
-        .history(History::KeepLast { depth: 1 })
-        .durability(Durability::TransientLocal);
-    ActionClientQosPolicies {
-        goal_service: service_qos(),
-        result_service: service_qos(),
-        cancel_service: service_qos(),
-        feedback_subscription: topic_qos(),
-        status_subscription: status,
-    }
-}
 
 /// Takes state samples until `pred` holds for one (within `secs`).
 async fn wait_state(
@@ -144,7 +71,7 @@ async fn scenario(mapping: ServiceMapping) {
     let mut c = ClientNode::new(domain, "test_client", mapping);
 
     // ~/state: environment, movers in configuration order, Disabled at start.
-    let states = subscribe::<PlanarState>(&mut c, "/planar_node/state", PlanarState::type_name());
+    let states = c.subscribe::<PlanarState>("/planar_node/state", PlanarState::type_name());
     let (first, _) = within(20.0, "first state sample", states.async_take())
         .await
         .unwrap();
@@ -163,7 +90,7 @@ async fn scenario(mapping: ServiceMapping) {
     assert_eq!(first.parts[0].name, "table");
 
     // ~/mover_poses (metres, frame planar_env) and ~/markers (6 stators, sized movers).
-    let poses = subscribe::<PoseArray>(&mut c, "/planar_node/mover_poses", PoseArray::type_name());
+    let poses = c.subscribe::<PoseArray>("/planar_node/mover_poses", PoseArray::type_name());
     let (p, _) = within(20.0, "mover poses", poses.async_take())
         .await
         .unwrap();
@@ -174,7 +101,7 @@ async fn scenario(mapping: ServiceMapping) {
         "{p:?}"
     );
     let markers =
-        subscribe::<MarkerArray>(&mut c, "/planar_node/markers", MarkerArray::type_name());
+        c.subscribe::<MarkerArray>("/planar_node/markers", MarkerArray::type_name());
     let (m, _) = within(20.0, "markers", markers.async_take()).await.unwrap();
     let stators = m
         .markers
@@ -191,9 +118,7 @@ async fn scenario(mapping: ServiceMapping) {
     assert!((m2.scale.x - 0.21).abs() < 1e-9);
 
     // Services: enable m1 (Enabling -> Enabled after enable_time), rejections with their ids.
-    let enable = client::<MoverEnableRequest, MoverEnableResponse>(
-        &mut c,
-        "/planar_node/mover_enable",
+    let enable = c.client::<MoverEnableRequest, MoverEnableResponse>("/planar_node/mover_enable",
         MoverEnable::service_type_name(),
     )
     .await;
@@ -223,9 +148,7 @@ async fn scenario(mapping: ServiceMapping) {
     })
     .await;
 
-    let mv = client::<MoverMoveToPositionRequest, MoverMoveToPositionResponse>(
-        &mut c,
-        "/planar_node/mover_move_to_position",
+    let mv = c.client::<MoverMoveToPositionRequest, MoverMoveToPositionResponse>("/planar_node/mover_move_to_position",
         srv::MoverMoveToPosition::service_type_name(),
     )
     .await;
@@ -259,9 +182,7 @@ async fn scenario(mapping: ServiceMapping) {
     .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, 0x7F02, "{}", r.message);
-    let mc = client::<MoverMoveCRequest, MoverMoveCResponse>(
-        &mut c,
-        "/planar_node/mover_move_c",
+    let mc = c.client::<MoverMoveCRequest, MoverMoveCResponse>("/planar_node/mover_move_c",
         srv::MoverMoveC::service_type_name(),
     )
     .await;
@@ -282,26 +203,11 @@ async fn scenario(mapping: ServiceMapping) {
 
     // An action to its result: MoveToPosition of m1 to (300, 200, c 10).
     let ac = c
-        .node
-        .create_action_client::<MoverMoveToPositionGoal, MoverMoveToPositionResult, MoverMoveToPositionFeedback>(
-            mapping,
-            &ClientNode::name("/planar_node/mover_move_to_position"),
+        .action::<MoverMoveToPositionGoal, MoverMoveToPositionResult, MoverMoveToPositionFeedback>(
+            "/planar_node/mover_move_to_position",
             &MoverMoveToPosition::action_type_name(),
-            action_qos(),
         )
-        .unwrap();
-    discovered("action goal service", || {
-        ac.goal_client().wait_for_service(&c.node)
-    })
-    .await;
-    discovered("action cancel service", || {
-        ac.cancel_client().wait_for_service(&c.node)
-    })
-    .await;
-    discovered("action result service", || {
-        ac.result_client().wait_for_service(&c.node)
-    })
-    .await;
+        .await;
     let goal = MoverMoveToPositionGoal {
         mover: "m1".into(),
         x: 300.0,
@@ -389,9 +295,7 @@ async fn scenario(mapping: ServiceMapping) {
 
     // The fault-injection hook (xplanar.md §6.2): m2 goes to Error with E_OBJECT_ERROR; a
     // wrong object kind is an enum error.
-    let inject = client::<PlanarInjectErrorRequest, PlanarInjectErrorResponse>(
-        &mut c,
-        "/planar_node/sim/inject_error",
+    let inject = c.client::<PlanarInjectErrorRequest, PlanarInjectErrorResponse>("/planar_node/sim/inject_error",
         PlanarInjectError::service_type_name(),
     )
     .await;
