@@ -1130,6 +1130,9 @@ fn type_description(ty: &Type) -> String {
     }
 }
 
+/// The member rosidl adds to structures without fields.
+const EMPTY_MEMBER: &str = "structure_needs_at_least_one_member";
+
 fn gen_struct(out: &mut String, kind: &str, m: &MessageSpec, ind: &str) {
     let sname = rust_struct_name(m);
     let ros_name = format!("{}/{kind}/{}", m.pkg, m.name);
@@ -1170,6 +1173,12 @@ fn gen_struct(out: &mut String, kind: &str, m: &MessageSpec, ind: &str) {
             );
         }
         let _ = writeln!(out, "{ind}    pub {ident}: {},", rust_type(&f.ty));
+    }
+    if m.fields.is_empty() {
+        // rosidl gives an empty structure one uint8 member (IDL has no empty structs), so an
+        // empty request or goal is one byte on the wire, as rclpy sends it.
+        doc_line(out, &format!("{ind}    "), "Placeholder rosidl adds to empty structures.");
+        let _ = writeln!(out, "{ind}    pub {EMPTY_MEMBER}: u8,");
     }
     let _ = writeln!(out, "{ind}}}\n");
 
@@ -1242,6 +1251,9 @@ fn gen_struct(out: &mut String, kind: &str, m: &MessageSpec, ind: &str) {
             "{ind}            {ident}: {},",
             rust_default(&f.ty, f.default.as_ref())
         );
+    }
+    if m.fields.is_empty() {
+        let _ = writeln!(out, "{ind}            {EMPTY_MEMBER}: 0,");
     }
     let _ = writeln!(out, "{ind}        }}\n{ind}    }}\n{ind}}}\n");
     let _ = writeln!(out, "{ind}impl ::ros2_client::Message for {sname} {{}}\n");

@@ -358,6 +358,9 @@ def generate_source(msgs_dir):
         for name, ann, expr, _ in s.fields:
             attr = name + '_' if keyword.iskeyword(name) else name
             out.append('    %s: %s = field(default_factory=lambda: %s)' % (attr, ann, expr))
+        if not s.fields:
+            # rosidl gives empty structures one uint8 member (one byte on the wire).
+            out.append('    structure_needs_at_least_one_member: types.uint8 = 0')
         out.append('')
     out.append('')
     out.append('TYPES = {')

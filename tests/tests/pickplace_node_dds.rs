@@ -1,17 +1,21 @@
 //! pickplace_node over real DDS, in-process: a ros2-client client in its own Context discovers
-//! the node, reads `~/state` and `~/events`, sets the enable levels, gets rejections with their
-//! error ids, runs a `~/pick_and_place` goal to its result and cancels one (halt, then abort),
-//! reads the parameters back; with both request/reply mappings.
+//! the node, reads `~/state`, `~/events` and `~/command_status`, sets the enable levels, gets
+//! rejections with their error ids, runs a `~/pick_and_place` goal to its result and cancels
+//! one (halt, then abort), runs `~/home`, reads the parameters back; with both request/reply
+//! mappings.
 
-use motion_msgs::action::{PickPlaceExecute, PickPlaceExecuteFeedback, PickPlaceExecuteGoal, PickPlaceExecuteResult};
-use motion_msgs::msg::{PickPlaceEvent, PickPlaceState};
+use motion_msgs::action::{
+    PickPlaceExecute, PickPlaceExecuteFeedback, PickPlaceExecuteGoal, PickPlaceExecuteResult,
+};
+use motion_msgs::action::{
+    PickPlaceHome, PickPlaceHomeFeedback, PickPlaceHomeGoal, PickPlaceHomeResult,
+};
+use motion_msgs::msg::{CommandStatus, PickPlaceEvent, PickPlaceState};
 use motion_msgs::srv::*;
-use motion_runtime::shell::{service_qos, topic_qos};
 use pickplace_node::PickPlaceNode;
-use ros2_client::action::ActionClientQosPolicies;
 use ros2_client::action_msgs::GoalStatusEnum;
-use ros2_client::{Client, ServiceMapping};
-use system_tests::{common, require_netns, unique_domain, within, ClientNode};
+use ros2_client::ServiceMapping;
+use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
 
 const CONFIG: &str = r#"
 initial_tcp: [0, 0, 200, 180, 0, 0, 0]
@@ -35,43 +39,21 @@ const INVALID_PARAMETER: u32 = 90001;
 
 fn start_node(domain: u16, mapping: ServiceMapping) -> PickPlaceNode {
     let cfg: serde_yaml::Value = serde_yaml::from_str(CONFIG).unwrap();
-    pickplace_node::start(&common("pickplace_node", true, mapping), cfg, "test", domain).expect("pickplace node")
+    pickplace_node::start(
+        &common("pickplace_node", true, mapping),
+        cfg,
+        "test",
+        domain,
+    )
+    .expect("pickplace node")
 }
 
-/// Steps the lockstep node `cycles` cycles every millisecond until dropped.
-fn drive(node: &PickPlaceNode, cycles: u64) -> system_tests::AbortOnDrop {
-    let handle = node.handle();
-    system_tests::AbortOnDrop(tokio::spawn(async move {
-        while handle.step(cycles).await.is_ok() {
-            tokio::time::sleep(std::time::Duration::from_millis(1)).await;
-        }
-    }))
-}
-
-async fn client<Req, Resp>(c: &mut ClientNode, name: &str, ty: ros2_client::ServiceTypeName) -> Client<Req, Resp>
-where
-    Req: ros2_client::Message + Clone + 'static,
-    Resp: ros2_client::Message + 'static,
-{
-    let cl = c
-        .node
-        .create_client::<Req, Resp>(c.mapping, &ClientNode::name(name), &ty, service_qos(), service_qos())
-        .expect("client");
-    within(20.0, &format!("service {name} discovered"), cl.wait_for_service(&c.node)).await;
-    cl
-}
-
-fn action_qos() -> ActionClientQosPolicies {
-    use ros2_client::qos::{Durability, History};
-    let status = ros2_client::QosProfile::subscription_default()
-        .history(History::KeepLast { depth: 1 })
-        .durability(Durability::TransientLocal);
-    ActionClientQosPolicies {
-        goal_service: service_qos(),
-        result_service: service_qos(),
-        cancel_service: service_qos(),
-        feedback_subscription: topic_qos(),
-        status_subscription: status,
+fn goal(target: [f64; 7], params: &str) -> PickPlaceExecuteGoal {
+    PickPlaceExecuteGoal {
+        set_target: 0,
+        use_target_pose: true,
+        target_pose: target,
+        params: params.into(),
     }
 }
 
@@ -82,57 +64,70 @@ async fn scenario(mapping: ServiceMapping) {
     let mut c = ClientNode::new(domain, "test_client", mapping);
 
     // ~/state: DISABLED, the TCP where configured, belt 1 running.
-    let topic = c
-        .node
-        .create_topic(&ClientNode::name("/pickplace_node/state"), PickPlaceState::type_name(), &topic_qos())
+    let states =
+        c.subscribe::<PickPlaceState>("/pickplace_node/state", PickPlaceState::type_name());
+    let statuses =
+        c.subscribe::<CommandStatus>("/pickplace_node/command_status", CommandStatus::type_name());
+    let events = {
+        use ros2_client::qos::{Durability, History};
+        let qos = ros2_client::QosProfile::subscription_default()
+            .durability(Durability::Volatile)
+            .history(History::KeepLast { depth: 1000 });
+        let name = ClientNode::name("/pickplace_node/events");
+        let topic = c
+            .node
+            .create_topic(&name, PickPlaceEvent::type_name(), &qos)
+            .unwrap();
+        c.node
+            .create_subscription::<PickPlaceEvent>(&topic, None)
+            .unwrap()
+    };
+    let (first, _) = within(20.0, "first state sample", states.async_take())
+        .await
         .unwrap();
-    let states = c.node.create_subscription::<PickPlaceState>(&topic, None).unwrap();
-    let (first, _) = within(20.0, "first state sample", states.async_take()).await.unwrap();
     assert_eq!(first.state, PickPlaceState::STATE_DISABLED);
     assert_eq!((first.tcp_x, first.tcp_y, first.tcp_z), (0.0, 0.0, 200.0));
     assert_eq!(first.belts.len(), 1);
     assert_eq!(first.belts[0].belt, 1);
     assert!(first.belts[0].configured && first.belts[0].velocity == 100.0);
 
-    let ev_qos = {
-        use ros2_client::qos::{Durability, History};
-        ros2_client::QosProfile::subscription_default()
-            .durability(Durability::Volatile)
-            .history(History::KeepLast { depth: 1000 })
-    };
-    let ev_topic = c
-        .node
-        .create_topic(&ClientNode::name("/pickplace_node/events"), PickPlaceEvent::type_name(), &ev_qos)
-        .unwrap();
-    let events = c.node.create_subscription::<PickPlaceEvent>(&ev_topic, None).unwrap();
-    // Let the event reader match before the first event is published.
-    tokio::time::sleep(std::time::Duration::from_millis(500)).await;
-
-    // Levels: xEnable, xRegulatorOnALL.
-    let enable = client::<PickPlaceSetEnableRequest, PickPlaceSetEnableResponse>(
-        &mut c,
-        "/pickplace_node/set_enable",
-        PickPlaceSetEnable::service_type_name(),
+    // Levels: xEnable, xRegulatorOnALL (the service discovery also gives ~/events time to match).
+    let enable = c
+        .client::<PickPlaceSetEnableRequest, PickPlaceSetEnableResponse>(
+            "/pickplace_node/set_enable",
+            PickPlaceSetEnable::service_type_name(),
+        )
+        .await;
+    let reg = c
+        .client::<PickPlaceSetRegulatorOnRequest, PickPlaceSetRegulatorOnResponse>(
+            "/pickplace_node/set_regulator_on",
+            PickPlaceSetRegulatorOn::service_type_name(),
+        )
+        .await;
+    let r = within(
+        5.0,
+        "enable",
+        enable.async_call_service(PickPlaceSetEnableRequest { enable: true }),
     )
-    .await;
-    let r = within(5.0, "enable", enable.async_call_service(PickPlaceSetEnableRequest { enable: true })).await.unwrap();
+    .await
+    .unwrap();
     assert!(r.accepted, "{}", r.message);
-    let reg = client::<PickPlaceSetRegulatorOnRequest, PickPlaceSetRegulatorOnResponse>(
-        &mut c,
-        "/pickplace_node/set_regulator_on",
-        PickPlaceSetRegulatorOn::service_type_name(),
+    let r = within(
+        5.0,
+        "regulator",
+        reg.async_call_service(PickPlaceSetRegulatorOnRequest { regulator_on: true }),
     )
-    .await;
-    let r = within(5.0, "regulator", reg.async_call_service(PickPlaceSetRegulatorOnRequest { regulator_on: true }))
-        .await
-        .unwrap();
+    .await
+    .unwrap();
     assert!(r.accepted, "{}", r.message);
 
     // The state change DISABLED -> READY arrives on ~/events.
     let ready = within(20.0, "READY event", async {
         loop {
             let (e, _) = events.async_take().await.unwrap();
-            if e.kind == PickPlaceEvent::KIND_STATE_CHANGED && e.to_state == PickPlaceState::STATE_READY {
+            if e.kind == PickPlaceEvent::KIND_STATE_CHANGED
+                && e.to_state == PickPlaceState::STATE_READY
+            {
                 break e;
             }
         }
@@ -141,111 +136,211 @@ async fn scenario(mapping: ServiceMapping) {
     assert_eq!(ready.from_state, PickPlaceState::STATE_DISABLED);
 
     // Rejections with their ids: unknown belt, bad parameter value, enum out of range.
-    let belt_input = client::<PickPlaceBeltInputRequest, PickPlaceBeltInputResponse>(
-        &mut c,
-        "/pickplace_node/belt_input",
-        PickPlaceBeltInput::service_type_name(),
+    let belt_input = c
+        .client::<PickPlaceBeltInputRequest, PickPlaceBeltInputResponse>(
+            "/pickplace_node/belt_input",
+            PickPlaceBeltInput::service_type_name(),
+        )
+        .await;
+    let r = within(
+        5.0,
+        "belt 17",
+        belt_input.async_call_service(PickPlaceBeltInputRequest {
+            belt: 17,
+            ..Default::default()
+        }),
     )
-    .await;
-    let r = within(5.0, "belt 17", belt_input.async_call_service(PickPlaceBeltInputRequest { belt: 17, ..Default::default() }))
-        .await
-        .unwrap();
+    .await
+    .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, UNKNOWN_OBJECT, "{}", r.message);
     assert!(r.message.contains("17"), "{}", r.message);
-    let set_params = client::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
-        &mut c,
-        "/pickplace_node/set_params",
-        PickPlaceSetParams::service_type_name(),
-    )
-    .await;
-    let r = within(5.0, "path_vel -5", set_params.async_call_service(PickPlaceSetParamsRequest { params: "{path_vel: -5}".into() }))
+    let set_params = c
+        .client::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
+            "/pickplace_node/set_params",
+            PickPlaceSetParams::service_type_name(),
+        )
+        .await;
+    let write = |params: &str| {
+        set_params.async_call_service(PickPlaceSetParamsRequest {
+            params: params.into(),
+        })
+    };
+    let r = within(5.0, "path_vel -5", write("{path_vel: -5}"))
         .await
         .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, INVALID_PARAMETER, "{}", r.message);
-    let jog = client::<PickPlaceJogRequest, PickPlaceJogResponse>(&mut c, "/pickplace_node/jog", PickPlaceJog::service_type_name()).await;
-    let r = within(5.0, "jog axis 14", jog.async_call_service(PickPlaceJogRequest { select_axis: 14, jog_pos: true, jog_neg: false }))
-        .await
-        .unwrap();
+    let jog = c
+        .client::<PickPlaceJogRequest, PickPlaceJogResponse>(
+            "/pickplace_node/jog",
+            PickPlaceJog::service_type_name(),
+        )
+        .await;
+    let r = within(
+        5.0,
+        "jog axis 14",
+        jog.async_call_service(PickPlaceJogRequest {
+            select_axis: 14,
+            jog_pos: true,
+            jog_neg: false,
+        }),
+    )
+    .await
+    .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, ENUM_OUT_OF_RANGE, "{}", r.message);
-    // A partial write that is accepted, read back.
-    let r = within(5.0, "z_start_dist", set_params.async_call_service(PickPlaceSetParamsRequest { params: "{z_start_dist: 20}".into() }))
+    // A partial write that is accepted, read back with the other fields kept.
+    let r = within(5.0, "z_start_dist", write("{z_start_dist: 20}"))
         .await
         .unwrap();
     assert!(r.accepted, "{}", r.message);
-    let get = client::<PickPlaceGetParamsRequest, PickPlaceGetParamsResponse>(
-        &mut c,
-        "/pickplace_node/get_params",
-        PickPlaceGetParams::service_type_name(),
+    let get = c
+        .client::<PickPlaceGetParamsRequest, PickPlaceGetParamsResponse>(
+            "/pickplace_node/get_params",
+            PickPlaceGetParams::service_type_name(),
+        )
+        .await;
+    let r = within(
+        5.0,
+        "get_params",
+        get.async_call_service(PickPlaceGetParamsRequest { belt: 0 }),
     )
-    .await;
-    let r = within(5.0, "get_params", get.async_call_service(PickPlaceGetParamsRequest { belt: 0 })).await.unwrap();
+    .await
+    .unwrap();
     assert!(r.accepted, "{}", r.message);
     let p: serde_yaml::Value = serde_yaml::from_str(&r.params).unwrap();
     assert_eq!(p["z_start_dist"].as_f64(), Some(20.0));
-    assert_eq!(p["path_vel"].as_f64(), Some(500.0), "the other fields are kept");
+    assert_eq!(p["path_vel"].as_f64(), Some(500.0));
 
-    // ~/pick_and_place to a static target: result Done with the TCP at the target.
+    // ~/pick_and_place to a static target: result Done with the TCP at the target, and the
+    // execute edge's outputs on ~/command_status.
     let ac = c
-        .node
-        .create_action_client::<PickPlaceExecuteGoal, PickPlaceExecuteResult, PickPlaceExecuteFeedback>(
-            mapping,
-            &ClientNode::name("/pickplace_node/pick_and_place"),
+        .action::<PickPlaceExecuteGoal, PickPlaceExecuteResult, PickPlaceExecuteFeedback>(
+            "/pickplace_node/pick_and_place",
             &PickPlaceExecute::action_type_name(),
-            action_qos(),
         )
-        .unwrap();
-    within(20.0, "action server discovered", ac.goal_client().wait_for_service(&c.node)).await;
-    within(20.0, "cancel service discovered", ac.cancel_client().wait_for_service(&c.node)).await;
-    within(20.0, "result service discovered", ac.result_client().wait_for_service(&c.node)).await;
+        .await;
     let target = [150.0, -50.0, 120.0, 180.0, 0.0, 0.0, 0.0];
-    let goal = PickPlaceExecuteGoal { set_target: 0, use_target_pose: true, target_pose: target, params: String::new() };
-    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal)).await.unwrap();
+    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal(target, "")))
+        .await
+        .unwrap();
     assert!(resp.accepted);
-    let (status, result) = within(30.0, "pick_and_place result", ac.async_request_result(gid)).await.unwrap();
+    let (status, result) = within(30.0, "pick_and_place result", ac.async_request_result(gid))
+        .await
+        .unwrap();
     assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
     assert!(result.done && !result.error, "{result:?}");
-    for i in 0..7 {
-        assert!((result.tcp[i] - target[i]).abs() < 1e-6, "{:?}", result.tcp);
+    for (got, want) in result.tcp.iter().zip(target) {
+        assert!((got - want).abs() < 1e-6, "{:?}", result.tcp);
     }
-
-    // A goal that fails screening: accepted, then ABORTED with the id.
-    let goal = PickPlaceExecuteGoal { set_target: 9, ..Default::default() };
-    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(goal)).await.unwrap();
-    let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid)).await.unwrap();
-    assert_eq!(status, GoalStatusEnum::Aborted);
-    assert!(result.error);
-    assert_eq!(result.error_id, ENUM_OUT_OF_RANGE, "{}", result.message);
-
-    // Cancel: a long move (2 m at 100 mm/s); cancel = halt, abort at standstill -> CANCELED,
-    // the cell READY again without a held path.
-    let goal = PickPlaceExecuteGoal {
-        set_target: 0,
-        use_target_pose: true,
-        target_pose: [2150.0, -50.0, 120.0, 180.0, 0.0, 0.0, 0.0],
-        params: "{path_vel: 100}".into(),
-    };
-    let (gid, resp) = within(10.0, "send long goal", ac.async_send_goal(goal)).await.unwrap();
-    assert!(resp.accepted);
-    tokio::time::sleep(std::time::Duration::from_millis(300)).await;
-    let cr = within(10.0, "cancel", ac.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO)).await.unwrap();
-    assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
-    let (status, result) = within(20.0, "canceled result", ac.async_request_result(gid)).await.unwrap();
-    assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
-    assert!(result.command_aborted);
-    assert!(result.tcp[0] > 150.0 && result.tcp[0] < 2150.0, "stopped on the way: {:?}", result.tcp);
-    let settled = within(10.0, "READY without held path", async {
+    let done = within(10.0, "command_status done", async {
         loop {
-            let (s, _) = states.async_take().await.unwrap();
-            if s.state == PickPlaceState::STATE_READY && !s.path_hold && !s.busy {
+            let (s, _) = statuses.async_take().await.unwrap();
+            if s.done {
                 break s;
             }
         }
     })
     .await;
-    assert!((settled.tcp_x - result.tcp[0]).abs() < 1e-6, "at rest where the goal ended");
+    assert_eq!(
+        (done.object.as_str(), done.command.as_str()),
+        ("cell", "pick_and_place")
+    );
+
+    // A goal that fails screening: accepted, then ABORTED with the id.
+    let bad = PickPlaceExecuteGoal {
+        set_target: 9,
+        ..Default::default()
+    };
+    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(bad))
+        .await
+        .unwrap();
+    let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted);
+    assert!(result.error);
+    assert_eq!(result.error_id, ENUM_OUT_OF_RANGE, "{}", result.message);
+
+    // ~/home: A1 and A2 in the first stage (direct set, §6) -> Done, group homed.
+    let r = within(
+        5.0,
+        "homing order",
+        write("{homing_order: [1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]}"),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "{}", r.message);
+    let home = c
+        .action::<PickPlaceHomeGoal, PickPlaceHomeResult, PickPlaceHomeFeedback>(
+            "/pickplace_node/home",
+            &PickPlaceHome::action_type_name(),
+        )
+        .await;
+    let (gid, resp) = within(
+        10.0,
+        "send home goal",
+        home.async_send_goal(PickPlaceHomeGoal::default()),
+    )
+    .await
+    .unwrap();
+    assert!(resp.accepted);
+    let (status, result) = within(20.0, "home result", home.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert!(result.done && result.axes_group_homed, "{result:?}");
+
+    // Cancel: a long move (2 m at 100 mm/s); cancel = halt, abort at standstill -> CANCELED,
+    // the cell READY again without a held path.
+    let far = [2150.0, -50.0, 120.0, 180.0, 0.0, 0.0, 0.0];
+    let (gid, resp) = within(
+        10.0,
+        "send long goal",
+        ac.async_send_goal(goal(far, "{path_vel: 100}")),
+    )
+    .await
+    .unwrap();
+    assert!(resp.accepted);
+    tokio::time::sleep(std::time::Duration::from_millis(300)).await;
+    let cr = within(
+        10.0,
+        "cancel",
+        ac.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
+    assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
+    let (status, result) = within(20.0, "canceled result", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
+    assert!(result.command_aborted);
+    // (homing set X and Y to their home position 0: the move started at X = 0)
+    assert!(
+        result.tcp[0] > 1.0 && result.tcp[0] < 2150.0,
+        "stopped on the way: {:?}",
+        result.tcp
+    );
+    within(
+        10.0,
+        "READY without held path, at rest where the goal ended",
+        async {
+            loop {
+                let (s, _) = states.async_take().await.unwrap();
+                // (older samples may still be queued: wait for one at the end position)
+                if s.state == PickPlaceState::STATE_READY
+                    && !s.path_hold
+                    && !s.busy
+                    && (s.tcp_x - result.tcp[0]).abs() < 1e-6
+                {
+                    break;
+                }
+            }
+        },
+    )
+    .await;
 
     drop(c);
     node.stop().await;

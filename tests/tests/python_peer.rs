@@ -42,3 +42,8 @@ fn cyclonedds_peer_drives_axis_node() {
 fn cyclonedds_peer_drives_planar_node() {
     run_peer_test("test_planar_node.py", 202);
 }
+
+#[test]
+fn cyclonedds_peer_drives_pickplace_node() {
+    run_peer_test("test_pickplace_node.py", 203);
+}

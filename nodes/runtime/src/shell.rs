@@ -629,6 +629,12 @@ where
         Ok(())
     }
 
+    /// Spawns a task of this node (e.g. the publisher of a node-specific event stream); it is
+    /// aborted and awaited with the node's other tasks when the node stops.
+    pub fn spawn(&self, fut: impl Future<Output = ()> + Send + 'static) {
+        self.tasks.spawn(fut);
+    }
+
     /// Stops the node's tasks and waits until their servers and publishers are dropped (they
     /// must go before the node and the Context, or RustDDS reports orphaned entities).
     pub async fn stop(mut self) {
@@ -703,6 +709,17 @@ pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
         end: CommandState,
         rejection: Option<&Rejection>,
     ) -> Self::Result;
+    /// For FBs whose Done-type output is reached while the command runs on (InVelocity,
+    /// InEndVelocity, InTorque): the query of the running command's outputs, asked at the
+    /// feedback rate. Default: none, the goal succeeds only at the final Done.
+    fn reached_query(&self, _id: CmdId) -> Option<E::Command> {
+        None
+    }
+    /// True when the reply to [`Self::reached_query`] shows the Done-type output: the goal
+    /// then succeeds (result built with `CommandState::Done`) and the command runs on.
+    fn reached(&self, _reply: &E::Reply) -> bool {
+        false
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -753,6 +770,11 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
             _ = tick.tick() => {
                 let fb = binding.feedback(goal, &handle.snapshot(), state);
                 let _ = server.publish_feedback(executing.clone(), fb).await;
+                if let Some(query) = binding.reached_query(id) {
+                    if matches!(handle.call(query).await, Ok(r) if binding.reached(&r)) {
+                        break CommandState::Done;
+                    }
+                }
             }
         }
     };

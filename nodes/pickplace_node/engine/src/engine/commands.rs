@@ -64,6 +64,12 @@ impl Engine for PickPlaceEngine {
     }
 
     fn cancel(&mut self, id: CmdId) -> Result<(), Rejection> {
+        // A resume edge's id stands for the held profile it resumed.
+        let id = self
+            .resume_ids
+            .iter()
+            .find(|&&(_, resume)| resume == id)
+            .map_or(id, |&(held, _)| held);
         // §18: cancel = xPathHalt pulse-and-release + xAbort at standstill, done here without
         // touching the FB's level inputs. A queued or preparing profile is simply dropped.
         let before = self.queue.len();

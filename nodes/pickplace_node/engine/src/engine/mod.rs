@@ -309,6 +309,8 @@ pub struct PickPlaceEngine {
     cancel_request: Option<CmdId>,
     /// The current STOP was caused by a cancel: discard the path at standstill.
     cancel_stop: bool,
+    /// (held profile's id, resume edge's id): the resume edge completes with the held profile.
+    resume_ids: Vec<(CmdId, CmdId)>,
     /// Command events produced outside `step` (cancel), flushed in the next step.
     deferred_events: Vec<CommandEvent>,
     /// Workpiece attached to the gripper (belt, id), modes 1 … 4 (§10).
@@ -442,6 +444,7 @@ impl PickPlaceEngine {
             held_workpiece: None,
             cancel_request: None,
             cancel_stop: false,
+            resume_ids: Vec::new(),
             deferred_events: Vec::new(),
             last_dt: cfg_cycle,
             cycle: 0,
@@ -473,6 +476,29 @@ impl PickPlaceEngine {
     /// The configuration the engine was built with.
     pub fn config(&self) -> &PickPlaceConfig {
         &self.cfg
+    }
+
+    /// The TCP path (X, Y, Z in MCS) of the running profile's current leg, `samples + 1`
+    /// points evenly spaced in σ, with the belt frames where they are now (§15.1); empty when
+    /// no path runs. For visualisation (`~/markers`); allocates, call at the state rate.
+    pub fn active_path(&self, samples: usize) -> Vec<[f64; 3]> {
+        let Some(Phase::Path { run, .. }) = self.running.as_deref().map(|r| &r.phase) else {
+            return Vec::new();
+        };
+        let n = samples.max(1);
+        let delta = |f: &Option<MovingFrame>| {
+            f.map(|f| f.delta(self.belt_s(f.belt)))
+                .unwrap_or_else(Vec3::zeros)
+        };
+        let (da, db) = (delta(&run.frame_a), delta(&run.frame_b));
+        (0..=n)
+            .map(|i| {
+                let s = run.geom.length * i as f64 / n as f64;
+                let k = run.geom.coupling(s);
+                let p = run.geom.position(s) + da * (1.0 - k) + db * k;
+                [p.x, p.y, p.z]
+            })
+            .collect()
     }
 
     /// Single-cycle events since the last call (`~/events`), oldest first.
@@ -643,6 +669,17 @@ impl PickPlaceEngine {
     fn emit(&mut self, events: &mut Vec<CommandEvent>, id: Option<CmdId>, state: CommandState) {
         if let Some(id) = id {
             events.push(CommandEvent { id, state });
+            if !self.resume_ids.is_empty() {
+                // Resume edges of a held profile that already had an id end with it.
+                for &(held, resume) in &self.resume_ids {
+                    if held == id {
+                        events.push(CommandEvent { id: resume, state });
+                    }
+                }
+                if state.is_final() {
+                    self.resume_ids.retain(|&(held, _)| held != id);
+                }
+            }
         }
     }
 

@@ -97,7 +97,8 @@ impl PickPlaceEngine {
         self.inputs.enable && self.inputs.regulator_on_all
     }
 
-    pub(super) fn profile_in_preparation(&self) -> bool {
+    /// `xProfileInPreparation` (§8): a profile is being prepared or the queue is full.
+    pub fn profile_in_preparation(&self) -> bool {
         let running = usize::from(self.running.is_some());
         self.prep.is_some()
             || self.append_prep.is_some()
@@ -493,8 +494,9 @@ impl PickPlaceEngine {
                                 id,
                                 state: CommandState::Busy,
                             });
-                            if r.job.id.is_none() {
-                                r.job.id = Some(id);
+                            match r.job.id {
+                                None => r.job.id = Some(id),
+                                Some(held) => self.resume_ids.push((held, id)),
                             }
                         }
                     }
