@@ -43,13 +43,14 @@ def main():
             if ty in peer.types:
                 readers.append((topic, peer.subscribe(topic, ty), fmt))
         diag = peer.subscribe("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray")
-        driver = AxisDriver(peer)
+        drivers = [AxisDriver(peer), PlanarDriver(peer), PickPlaceDriver(peer)]
         t0 = time.monotonic()
         while not stop["now"] and proc.poll() is None:
             if args.duration is not None and time.monotonic() - t0 > args.duration:
                 break
             time.sleep(1.0)
-            driver.tick()
+            for d in drivers:
+                d.tick()
             print(f"--- t = {time.monotonic() - t0:5.1f} s (peer: cyclonedds)", flush=True)
             for topic, r, fmt in readers:
                 samples = r.take(N=100)
@@ -103,6 +104,72 @@ class AxisDriver:
                 self.last = time.monotonic()
         except (TimeoutError, KeyError) as e:
             print(f"(axis driver waiting: {e})", flush=True)
+
+
+class PlanarDriver:
+    """Enables the demo movers of /planar_node and shuttles m1 and m3 between y 120 and 360."""
+
+    def __init__(self, peer):
+        self.peer = peer
+        self.ready = False
+        self.y = 360.0
+        self.last = 0.0
+
+    def tick(self):
+        try:
+            if not self.ready:
+                if "motion_msgs/srv/MoverEnable" not in [k.rsplit("_", 1)[0] for k in self.peer.types]:
+                    return
+                self.enable = self.peer.service("/planar_node/mover_enable", "motion_msgs/srv/MoverEnable")
+                self.move = self.peer.service("/planar_node/mover_move_to_position", "motion_msgs/srv/MoverMoveToPosition")
+                self.enable.wait_for_server(5)
+                self.move.wait_for_server(5)
+                for m in ("m1", "m2", "m3", "m4"):
+                    self.enable.call(mover=m)
+                self.ready = True
+                self.last = time.monotonic()
+            if time.monotonic() - self.last > 4.0:
+                for m, x in (("m1", 120.0), ("m3", 600.0)):
+                    r = self.move.call(mover=m, x=x, y=self.y, c=0.0)
+                    if not r.accepted:
+                        print(f"mover_move_to_position {m}: rejected {r.error_id:#x} {r.message}", flush=True)
+                self.y = 480.0 - self.y
+                self.last = time.monotonic()
+        except (TimeoutError, KeyError) as e:
+            print(f"(planar driver waiting: {e})", flush=True)
+
+
+class PickPlaceDriver:
+    """Switches the /pickplace_node cell on, starts its endless tracking mode and feeds a
+    workpiece onto belt 1 every 2 s."""
+
+    def __init__(self, peer):
+        self.peer = peer
+        self.ready = False
+        self.last = 0.0
+
+    def tick(self):
+        try:
+            if not self.ready:
+                if "motion_msgs/srv/PickPlaceSetEnable_Request" not in self.peer.types:
+                    return
+                svc = lambda n, t: self.peer.service(f"/pickplace_node/{n}", f"motion_msgs/srv/{t}")
+                enable, regulator = svc("set_enable", "PickPlaceSetEnable"), svc("set_regulator_on", "PickPlaceSetRegulatorOn")
+                self.execute, self.detect = svc("execute", "PickPlaceExecute"), svc("detect_workpiece", "PickPlaceDetectWorkpiece")
+                for s in (enable, regulator, self.execute, self.detect):
+                    s.wait_for_server(5)
+                enable.call(enable=True)
+                regulator.call(regulator_on=True)
+                time.sleep(0.5)
+                r = self.execute.call(set_target=0)
+                if not r.accepted:
+                    print(f"pick&place execute: rejected {r.error_id} {r.message}", flush=True)
+                self.ready = True
+            if time.monotonic() - self.last > 2.0:
+                self.detect.call(belt=1, position=[0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+                self.last = time.monotonic()
+        except (TimeoutError, KeyError) as e:
+            print(f"(pick&place driver waiting: {e})", flush=True)
 
 
 if __name__ == "__main__":

@@ -101,7 +101,8 @@ class AxisNodeOverCyclone(unittest.TestCase):
     def test_3_cancel(self):
         act = self.peer.action("/axis_node/move_velocity", "motion_msgs/action/MoveVelocity")
         act.wait_for_server()
-        gid, accepted = act.send(axis="x", velocity=50.0, direction=1)
+        # A slow ramp: the goal would succeed at InVelocity; it is canceled while ramping.
+        gid, accepted = act.send(axis="x", velocity=50.0, acceleration=1.0, direction=1)
         self.assertTrue(accepted)
         fb = act.feedback_for(gid, timeout=10)
         self.assertTrue(fb.busy)

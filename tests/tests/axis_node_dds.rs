@@ -89,7 +89,8 @@ async fn scenario(mapping: ServiceMapping) {
     let vc = c
         .action::<MoveVelocityGoal, MoveVelocityResult, MoveVelocityFeedback>("/axis_node/move_velocity", &MoveVelocity::action_type_name())
         .await;
-    let goal = MoveVelocityGoal { axis: "x".into(), velocity: 100.0, direction: 1, ..Default::default() };
+    // A slow ramp (100 s to InVelocity, where the goal would succeed): canceled while ramping.
+    let goal = MoveVelocityGoal { axis: "x".into(), velocity: 100.0, acceleration: 1.0, direction: 1, ..Default::default() };
     let (gid, resp) = within(10.0, "send velocity goal", vc.async_send_goal(goal)).await.unwrap();
     assert!(resp.accepted);
     tokio::time::sleep(std::time::Duration::from_millis(200)).await;

@@ -3,19 +3,38 @@
 //! Cancel = MC_Halt with the axis defaults (the engine's `cancel`).
 
 use crate::services::{buffer_mode, direction};
-use axis_engine::{AxisCommand, AxisEngine, AxisSnapshot, MoveOptions};
-use motion_core::{CommandState, ExecuteOutputs, Rejection};
+use axis_engine::{
+    AxisCommand, AxisEngine, AxisReply, AxisSnapshot, FbOutputs, MoveOptions, ReplyValue,
+};
+use motion_core::{CmdId, CommandState, ExecuteOutputs, Rejection};
 use motion_msgs::action::*;
 use motion_runtime::cycle::Stamped;
 use motion_runtime::{ActionBinding, CommandLabel, NodeShell, ShellError};
 use ros2_client::ActionTypeName;
 
 fn actual(snap: &Stamped<AxisSnapshot>, axis: &str) -> (f64, f64) {
-    snap.state.axes.iter().find(|a| a.name == axis).map(|a| (a.act_pos, a.act_velo)).unwrap_or((0.0, 0.0))
+    snap.state
+        .axes
+        .iter()
+        .find(|a| a.name == axis)
+        .map(|a| (a.act_pos, a.act_velo))
+        .unwrap_or((0.0, 0.0))
+}
+
+/// The Done-type flag of an instance's outputs (`~/get_outputs` data), for actions that
+/// succeed while their command runs on.
+fn flag_reached(reply: &AxisReply, flag: fn(&FbOutputs) -> bool) -> bool {
+    matches!(&reply.value, ReplyValue::Outputs(o) if flag(&o.outputs))
 }
 
 macro_rules! motion_action {
     ($binding:ident, $action:ident, $goal:ident, $result:ident, $feedback:ident, $decode:expr) => {
+        motion_action!($binding, $action, $goal, $result, $feedback, $decode, axis);
+    };
+    ($binding:ident, $action:ident, $goal:ident, $result:ident, $feedback:ident, $decode:expr, $axis:ident) => {
+        motion_action!($binding, $action, $goal, $result, $feedback, $decode, $axis, None);
+    };
+    ($binding:ident, $action:ident, $goal:ident, $result:ident, $feedback:ident, $decode:expr, $axis:ident, $reached:expr) => {
         struct $binding;
 
         impl ActionBinding<AxisEngine> for $binding {
@@ -32,10 +51,30 @@ macro_rules! motion_action {
                 ($decode)(g)
             }
 
-            fn feedback(&self, g: &$goal, snap: &Stamped<AxisSnapshot>, state: CommandState) -> $feedback {
-                let (position, velocity) = actual(snap, &g.axis);
+            fn reached_query(&self, id: CmdId) -> Option<AxisCommand> {
+                let flag: Option<fn(&FbOutputs) -> bool> = $reached;
+                flag.map(|_| AxisCommand::ReadFbOutputs { id })
+            }
+
+            fn reached(&self, reply: &AxisReply) -> bool {
+                let flag: Option<fn(&FbOutputs) -> bool> = $reached;
+                flag.is_some_and(|f| flag_reached(reply, f))
+            }
+
+            fn feedback(
+                &self,
+                g: &$goal,
+                snap: &Stamped<AxisSnapshot>,
+                state: CommandState,
+            ) -> $feedback {
+                let (position, velocity) = actual(snap, &g.$axis);
                 let o = ExecuteOutputs::from(state);
-                $feedback { busy: o.busy, active: o.active, position, velocity }
+                $feedback {
+                    busy: o.busy,
+                    active: o.active,
+                    position,
+                    velocity,
+                }
             }
 
             fn result(
@@ -53,10 +92,12 @@ macro_rules! motion_action {
                     error_id: o.error_id.0,
                     message: match rejection {
                         Some(r) => r.message.clone(),
-                        None if o.error => <AxisEngine as motion_core::Engine>::error_text(o.error_id),
+                        None if o.error => {
+                            <AxisEngine as motion_core::Engine>::error_text(o.error_id)
+                        }
                         None => String::new(),
                     },
-                    position: actual(snap, &g.axis).0,
+                    position: actual(snap, &g.$axis).0,
                 }
             }
         }
@@ -64,7 +105,10 @@ macro_rules! motion_action {
 }
 
 fn label(axis: &str, command: &str) -> CommandLabel {
-    CommandLabel { object: axis.to_string(), command: command.to_string() }
+    CommandLabel {
+        object: axis.to_string(),
+        command: command.to_string(),
+    }
 }
 
 motion_action!(
@@ -133,12 +177,208 @@ motion_action!(
             }),
             label(&g.axis, "move_velocity"),
         ))
+    },
+    axis,
+    Some(|o: &FbOutputs| o.in_velocity)
+);
+
+motion_action!(
+    MoveModuloAction,
+    MoveModulo,
+    MoveModuloGoal,
+    MoveModuloResult,
+    MoveModuloFeedback,
+    |g: &MoveModuloGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::fbs::decode_move_modulo(motion_msgs::srv::MoveModuloRequest {
+            axis: g.axis.clone(),
+            position: g.position,
+            velocity: g.velocity,
+            acceleration: g.acceleration,
+            deceleration: g.deceleration,
+            jerk: g.jerk,
+            direction: g.direction,
+            buffer_mode: g.buffer_mode,
+            enable_blending_position: g.enable_blending_position,
+            blending_position: g.blending_position,
+            ignore_position_monitoring: g.ignore_position_monitoring,
+        })
     }
 );
 
+motion_action!(
+    HaltAction,
+    Halt,
+    HaltGoal,
+    HaltResult,
+    HaltFeedback,
+    |g: &HaltGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        Ok((
+            AxisCommand::Halt(axis_engine::Halt {
+                axis: g.axis.clone(),
+                deceleration: g.deceleration,
+                jerk: g.jerk,
+                buffer_mode: buffer_mode(g.buffer_mode)?,
+                options: MoveOptions::default(),
+            }),
+            label(&g.axis, "halt"),
+        ))
+    }
+);
+
+motion_action!(
+    HomeAction,
+    Home,
+    HomeGoal,
+    HomeResult,
+    HomeFeedback,
+    |g: &HomeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::fbs::home_command(
+            g.axis.clone(),
+            g.position,
+            g.use_default_position,
+            g.homing_mode,
+            g.buffer_mode,
+            g.clear_position_lag,
+            g.search_direction,
+            g.search_velocity,
+            g.sync_direction,
+            g.sync_velocity,
+            g.reference_mode,
+            g.calibration_cam,
+        )
+    }
+);
+
+// Succeeds at InGear: MC_GearIn's Done-type output, which the engine reports as the
+// instance's Done (the cycle after the edge, §4.12.1). Feedback and result show the slave.
+motion_action!(
+    GearInAction,
+    GearIn,
+    GearInGoal,
+    GearInResult,
+    GearInFeedback,
+    |g: &GearInGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::fbs::gear_in_command(
+            g.master.clone(),
+            g.slave.clone(),
+            g.ratio_numerator,
+            g.ratio_denominator,
+            [g.acceleration, g.deceleration, g.jerk],
+            g.buffer_mode,
+        )
+    },
+    slave
+);
+
+motion_action!(
+    MoveSuperImposedAction,
+    MoveSuperImposed,
+    MoveSuperImposedGoal,
+    MoveSuperImposedResult,
+    MoveSuperImposedFeedback,
+    |g: &MoveSuperImposedGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::fbs::move_superimposed_command(
+            g.axis.clone(),
+            g.mode,
+            g.distance,
+            g.velocity_diff,
+            [g.acceleration, g.deceleration, g.jerk],
+            g.velocity_process,
+            g.length,
+            g.abort_option,
+        )
+    }
+);
+
+motion_action!(
+    MoveContinuousAbsoluteAction,
+    MoveContinuousAbsolute,
+    MoveContinuousAbsoluteGoal,
+    MoveContinuousAbsoluteResult,
+    MoveContinuousAbsoluteFeedback,
+    |g: &MoveContinuousAbsoluteGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::fbs::decode_move_continuous_absolute(
+            motion_msgs::srv::MoveContinuousAbsoluteRequest {
+                axis: g.axis.clone(),
+                position: g.position,
+                velocity: g.velocity,
+                end_velocity: g.end_velocity,
+                acceleration: g.acceleration,
+                deceleration: g.deceleration,
+                jerk: g.jerk,
+                buffer_mode: g.buffer_mode,
+                enable_blending_position: g.enable_blending_position,
+                blending_position: g.blending_position,
+                ignore_position_monitoring: g.ignore_position_monitoring,
+            },
+        )
+    },
+    axis,
+    Some(|o: &FbOutputs| o.in_end_velocity)
+);
+
+motion_action!(
+    MoveContinuousRelativeAction,
+    MoveContinuousRelative,
+    MoveContinuousRelativeGoal,
+    MoveContinuousRelativeResult,
+    MoveContinuousRelativeFeedback,
+    |g: &MoveContinuousRelativeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::fbs::decode_move_continuous_relative(
+            motion_msgs::srv::MoveContinuousRelativeRequest {
+                axis: g.axis.clone(),
+                distance: g.distance,
+                velocity: g.velocity,
+                end_velocity: g.end_velocity,
+                acceleration: g.acceleration,
+                deceleration: g.deceleration,
+                jerk: g.jerk,
+                buffer_mode: g.buffer_mode,
+                enable_blending_position: g.enable_blending_position,
+                blending_position: g.blending_position,
+                ignore_position_monitoring: g.ignore_position_monitoring,
+            },
+        )
+    },
+    axis,
+    Some(|o: &FbOutputs| o.in_end_velocity)
+);
+
+motion_action!(
+    TorqueControlAction,
+    TorqueControl,
+    TorqueControlGoal,
+    TorqueControlResult,
+    TorqueControlFeedback,
+    |g: &TorqueControlGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::fbs::decode_torque_control(motion_msgs::srv::TorqueControlRequest {
+            axis: g.axis.clone(),
+            continuous_update: g.continuous_update,
+            relative: g.relative,
+            torque: g.torque,
+            torque_ramp: g.torque_ramp,
+            velocity_limit_high: g.velocity_limit_high,
+            velocity_limit_low: g.velocity_limit_low,
+            buffer_mode: g.buffer_mode,
+            enable_manual_torque_start_value: g.enable_manual_torque_start_value,
+            manual_torque_start_value: g.manual_torque_start_value,
+        })
+    },
+    axis,
+    Some(|o: &FbOutputs| o.in_torque)
+);
+
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
+    shell.action("move_continuous_absolute", MoveContinuousAbsoluteAction)?;
+    shell.action("move_continuous_relative", MoveContinuousRelativeAction)?;
+    shell.action("torque_control", TorqueControlAction)?;
     shell.action("move_absolute", MoveAbsoluteAction)?;
     shell.action("move_relative", MoveRelativeAction)?;
     shell.action("move_velocity", MoveVelocityAction)?;
+    shell.action("move_modulo", MoveModuloAction)?;
+    shell.action("halt", HaltAction)?;
+    shell.action("home", HomeAction)?;
+    shell.action("gear_in", GearInAction)?;
+    shell.action("move_superimposed", MoveSuperImposedAction)?;
     Ok(())
 }

@@ -42,7 +42,12 @@ pub fn axis_state(a: &AxisStatus, t: f64) -> AxisState {
 pub fn axis_state_array(s: &Stamped<AxisSnapshot>) -> AxisStateArray {
     AxisStateArray {
         stamp: stamp_from_secs(s.sim_time),
-        axes: s.state.axes.iter().map(|a| axis_state(a, s.sim_time)).collect(),
+        axes: s
+            .state
+            .axes
+            .iter()
+            .map(|a| axis_state(a, s.sim_time))
+            .collect(),
     }
 }
 
@@ -50,7 +55,10 @@ pub fn axis_state_array(s: &Stamped<AxisSnapshot>) -> AxisStateArray {
 /// is not modelled yet and left empty).
 pub fn joint_state(s: &Stamped<AxisSnapshot>) -> JointState {
     JointState {
-        header: Header { stamp: stamp_from_secs(s.sim_time), frame_id: String::new() },
+        header: Header {
+            stamp: stamp_from_secs(s.sim_time),
+            frame_id: String::new(),
+        },
         name: s.state.axes.iter().map(|a| a.name.clone()).collect(),
         position: s.state.axes.iter().map(|a| a.act_pos).collect(),
         velocity: s.state.axes.iter().map(|a| a.act_velo).collect(),
@@ -58,16 +66,25 @@ pub fn joint_state(s: &Stamped<AxisSnapshot>) -> JointState {
     }
 }
 
-pub(crate) fn register_topics(shell: &mut NodeShell<AxisEngine>, names: Vec<String>) -> Result<(), ShellError> {
-    shell.state_publisher("~/axis_states", AxisStateArray::type_name(), axis_state_array)?;
+pub(crate) fn register_topics(
+    shell: &mut NodeShell<AxisEngine>,
+    names: Vec<String>,
+) -> Result<(), ShellError> {
+    shell.state_publisher(
+        "~/axis_states",
+        AxisStateArray::type_name(),
+        axis_state_array,
+    )?;
     shell.state_publisher("joint_states", JointState::type_name(), joint_state)?;
     for (i, name) in names.into_iter().enumerate() {
-        shell.state_publisher(&format!("~/axes/{name}/state"), AxisState::type_name(), move |s| {
-            match s.state.axes.get(i) {
+        shell.state_publisher(
+            &format!("~/axes/{name}/state"),
+            AxisState::type_name(),
+            move |s| match s.state.axes.get(i) {
                 Some(a) => axis_state(a, s.sim_time),
                 None => AxisState::default(),
-            }
-        })?;
+            },
+        )?;
     }
     Ok(())
 }

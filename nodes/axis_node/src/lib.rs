@@ -1,16 +1,21 @@
 //! `axis_node`: PLCopen single axes (Tc2_MC2) over ROS 2.
 //!
 //! The engine ([`axis_engine`]) does the semantics; this crate maps ROS requests onto its
-//! commands and its snapshots onto topics (README "ROS API"):
-//! - services `~/power`, `~/reset`, `~/move_absolute`, `~/move_relative`, `~/move_additive`,
-//!   `~/move_velocity`, `~/halt`, `~/stop`, `~/set_position`, `~/read_parameter`,
-//!   `~/write_parameter`, simulation hooks `~/sim/inject_error`;
-//! - actions `~/move_absolute`, `~/move_relative`, `~/move_velocity` (cancel = MC_Halt);
+//! commands and its snapshots onto topics (README "ROS API", table "axis_node"):
+//! - one service per FB (`services`: power, reset, the basic moves, halt, stop, set_position,
+//!   parameters; `fbs`: modulo/continuous moves, home, gearing, torque, superposition, touch
+//!   probe, override, later inputs of running instances; `jog`: MC_Jog's level-held buttons;
+//!   `reads`: read FBs and `~/get_outputs`), simulation hooks under `~/sim/`;
+//! - actions for the motions that end (`actions`): Done, or the FB's Done-type output
+//!   (InVelocity, InEndVelocity, InTorque, InGear); cancel = MC_Halt;
 //! - topics `~/axis_states` (motion_msgs/AxisStateArray), `joint_states`
 //!   (sensor_msgs/JointState), `~/command_status`, `/diagnostics`.
 
 mod actions;
 mod convert;
+mod fbs;
+mod jog;
+mod reads;
 mod services;
 
 use axis_engine::{AxisConfig, AxisEngine};
@@ -23,21 +28,31 @@ use ros2_client::ParameterValue;
 pub const KIND: &str = "axis_node";
 
 /// The launcher's entry for this node.
-pub const NODE_KIND: NodeKind = NodeKind { kind: KIND, start: start_boxed, check };
+pub const NODE_KIND: NodeKind = NodeKind {
+    kind: KIND,
+    start: start_boxed,
+    check,
+};
 
 /// Checks an `axis_node` entry's engine part (`--check`): parse and build the engine.
 pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
     build(parse(engine_cfg, location)?.0, location).map(|_| ())
 }
 
-fn parse(engine_cfg: serde_yaml::Value, location: &str) -> Result<(AxisNodeConfig, Vec<String>), ConfigError> {
+fn parse(
+    engine_cfg: serde_yaml::Value,
+    location: &str,
+) -> Result<(AxisNodeConfig, Vec<String>), ConfigError> {
     let cfg = AxisNodeConfig::from_yaml(engine_cfg, location)?;
     let names = cfg.axes.iter().map(|(n, _)| n.clone()).collect();
     Ok((cfg, names))
 }
 
 fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
-    AxisEngine::new(cfg.axes).map_err(|r| ConfigError { location: format!("{location}.axes"), message: r.message })
+    AxisEngine::new(cfg.axes).map_err(|r| ConfigError {
+        location: format!("{location}.axes"),
+        message: r.message,
+    })
 }
 
 /// The engine part of an `axis_node` entry of a launch config.
@@ -50,7 +65,10 @@ pub struct AxisNodeConfig {
 impl AxisNodeConfig {
     /// Reads `axes: { <name>: { <parameter>: value, ... }, ... }` (order kept).
     pub fn from_yaml(v: serde_yaml::Value, location: &str) -> Result<Self, ConfigError> {
-        let bad = |key: &str, msg: &str| ConfigError { location: format!("{location}.{key}"), message: msg.into() };
+        let bad = |key: &str, msg: &str| ConfigError {
+            location: format!("{location}.{key}"),
+            message: msg.into(),
+        };
         let map = match v {
             serde_yaml::Value::Mapping(m) => m,
             serde_yaml::Value::Null => serde_yaml::Mapping::new(),
@@ -60,10 +78,18 @@ impl AxisNodeConfig {
         for (k, val) in map {
             match k.as_str() {
                 Some("axes") => {
-                    let m = val.as_mapping().ok_or_else(|| bad("axes", "expected a mapping of axis names"))?;
+                    let m = val
+                        .as_mapping()
+                        .ok_or_else(|| bad("axes", "expected a mapping of axis names"))?;
                     for (name, cfg) in m {
-                        let name = name.as_str().ok_or_else(|| bad("axes", "axis names must be strings"))?;
-                        let cfg = if cfg.is_null() { serde_yaml::Value::Mapping(Default::default()) } else { cfg.clone() };
+                        let name = name
+                            .as_str()
+                            .ok_or_else(|| bad("axes", "axis names must be strings"))?;
+                        let cfg = if cfg.is_null() {
+                            serde_yaml::Value::Mapping(Default::default())
+                        } else {
+                            cfg.clone()
+                        };
                         let c: AxisConfig = from_value(cfg, &format!("{location}.axes.{name}"))?;
                         axes.push((name.to_string(), c));
                     }
@@ -95,16 +121,33 @@ pub fn start(
         c.cycle_time = common.cycle_period;
     }
     let engine = build(cfg, location)?;
-    let params = vec![("axes".to_string(), ParameterValue::StringArray(names.clone()))];
-    Ok(NodeHost::start(KIND, common, domain_id, engine, params, |shell| setup(shell, names))?)
+    let params = vec![(
+        "axes".to_string(),
+        ParameterValue::StringArray(names.clone()),
+    )];
+    Ok(NodeHost::start(
+        KIND,
+        common,
+        domain_id,
+        engine,
+        params,
+        |shell| setup(shell, names),
+    )?)
 }
 
-fn start_boxed(c: &CommonConfig, v: serde_yaml::Value, loc: &str, d: u16) -> Result<RunningNode, StartError> {
+fn start_boxed(
+    c: &CommonConfig,
+    v: serde_yaml::Value,
+    loc: &str,
+    d: u16,
+) -> Result<RunningNode, StartError> {
     Ok(Box::new(start(c, v, loc, d)?))
 }
 
 fn setup(shell: &mut NodeShell<AxisEngine>, names: Vec<String>) -> Result<(), ShellError> {
     services::register(shell)?;
+    reads::register(shell)?;
+    jog::register(shell)?;
     actions::register(shell)?;
     convert::register_topics(shell, names)?;
     Ok(())

@@ -26,14 +26,25 @@ pub(crate) struct Answer {
 impl Answer {
     pub fn of(o: &Outcome) -> Answer {
         match o {
-            Ok(r) => Answer { accepted: true, command_id: r.id.0, error_id: 0, message: String::new() },
-            Err(e) => Answer { accepted: false, command_id: 0, error_id: e.error_id.0, message: e.message.clone() },
+            Ok(r) => Answer {
+                accepted: true,
+                command_id: r.id.0,
+                error_id: 0,
+                message: String::new(),
+            },
+            Err(e) => Answer {
+                accepted: false,
+                command_id: 0,
+                error_id: e.error_id.0,
+                message: e.message.clone(),
+            },
         }
     }
 }
 
 macro_rules! command_response {
     ($($resp:ident),* $(,)?) => {$(
+        #[allow(clippy::needless_update)] // responses with extra fields take their defaults
         impl From<Answer> for $resp {
             fn from(a: Answer) -> Self {
                 $resp {
@@ -59,14 +70,37 @@ command_response!(
     SetPositionResponse,
     WriteParameterResponse,
     PowerResponse,
+    MoveModuloResponse,
+    MoveContinuousAbsoluteResponse,
+    MoveContinuousRelativeResponse,
+    HomeResponse,
+    HomeCalibrationCamResponse,
+    GearInResponse,
+    GearOutResponse,
+    GearInDynResponse,
+    TorqueControlResponse,
+    TorqueControlUpdateResponse,
+    MoveSuperImposedResponse,
+    AbortSuperpositionResponse,
+    TouchProbeResponse,
+    TouchProbePlcEventResponse,
+    AbortTriggerResponse,
+    SetExecuteResponse,
+    SetFollowingOffsetResponse,
+    SetProbeInputResponse,
+    JogResponse,
+    SetOverrideResponse,
 );
 
-fn respond<R: From<Answer>>(o: Outcome) -> R {
+pub(crate) fn respond<R: From<Answer>>(o: Outcome) -> R {
     R::from(Answer::of(&o))
 }
 
-fn label(axis: &str, command: &str) -> CommandLabel {
-    CommandLabel { object: axis.to_string(), command: command.to_string() }
+pub(crate) fn label(axis: &str, command: &str) -> CommandLabel {
+    CommandLabel {
+        object: axis.to_string(),
+        command: command.to_string(),
+    }
 }
 
 pub(crate) fn buffer_mode(raw: u8) -> Result<BufferMode, Rejection> {
@@ -77,7 +111,16 @@ pub(crate) fn direction(raw: u8) -> Result<Direction, Rejection> {
     Direction::from_raw(u32::from(raw))
 }
 
-fn move_options(enable_blending_position: bool, blending_position: f64, ignore: bool) -> MoveOptions {
+/// `MC_Direction` of homing options; `from_raw` refuses unknown values (0x7F03).
+pub(crate) fn direction_u8(raw: u8) -> Result<Direction, Rejection> {
+    Direction::from_raw(u32::from(raw))
+}
+
+pub(crate) fn move_options(
+    enable_blending_position: bool,
+    blending_position: f64,
+    ignore: bool,
+) -> MoveOptions {
     MoveOptions {
         enable_blending_position,
         blending_position,
@@ -102,8 +145,17 @@ fn decode_power(r: PowerRequest) -> Result<(AxisCommand, CommandLabel), Rejectio
 }
 
 fn respond_power(o: Outcome) -> PowerResponse {
-    let status = matches!(&o, Ok(AxisReply { value: ReplyValue::Bool(true), .. }));
-    PowerResponse { status, ..respond(o) }
+    let status = matches!(
+        &o,
+        Ok(AxisReply {
+            value: ReplyValue::Bool(true),
+            ..
+        })
+    );
+    PowerResponse {
+        status,
+        ..respond(o)
+    }
 }
 
 fn decode_reset(r: ResetRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
@@ -111,7 +163,9 @@ fn decode_reset(r: ResetRequest) -> Result<(AxisCommand, CommandLabel), Rejectio
     Ok((AxisCommand::Reset(axis_engine::Reset { axis: r.axis }), l))
 }
 
-pub(crate) fn decode_move_absolute(r: MoveAbsoluteRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
+pub(crate) fn decode_move_absolute(
+    r: MoveAbsoluteRequest,
+) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "move_absolute");
     Ok((
         AxisCommand::MoveAbsolute(axis_engine::MoveAbsolute {
@@ -122,7 +176,11 @@ pub(crate) fn decode_move_absolute(r: MoveAbsoluteRequest) -> Result<(AxisComman
             deceleration: r.deceleration,
             jerk: r.jerk,
             buffer_mode: buffer_mode(r.buffer_mode)?,
-            options: move_options(r.enable_blending_position, r.blending_position, r.ignore_position_monitoring),
+            options: move_options(
+                r.enable_blending_position,
+                r.blending_position,
+                r.ignore_position_monitoring,
+            ),
         }),
         l,
     ))
@@ -139,7 +197,11 @@ fn decode_move_relative(r: MoveRelativeRequest) -> Result<(AxisCommand, CommandL
             deceleration: r.deceleration,
             jerk: r.jerk,
             buffer_mode: buffer_mode(r.buffer_mode)?,
-            options: move_options(r.enable_blending_position, r.blending_position, r.ignore_position_monitoring),
+            options: move_options(
+                r.enable_blending_position,
+                r.blending_position,
+                r.ignore_position_monitoring,
+            ),
         }),
         l,
     ))
@@ -156,7 +218,11 @@ fn decode_move_additive(r: MoveAdditiveRequest) -> Result<(AxisCommand, CommandL
             deceleration: r.deceleration,
             jerk: r.jerk,
             buffer_mode: buffer_mode(r.buffer_mode)?,
-            options: move_options(r.enable_blending_position, r.blending_position, r.ignore_position_monitoring),
+            options: move_options(
+                r.enable_blending_position,
+                r.blending_position,
+                r.ignore_position_monitoring,
+            ),
         }),
         l,
     ))
@@ -200,13 +266,18 @@ fn decode_set_position(r: SetPositionRequest) -> Result<(AxisCommand, CommandLab
             axis: r.axis,
             position: r.position,
             mode: r.mode,
-            options: SetPositionOptions { clear_position_lag: r.clear_position_lag, ..Default::default() },
+            options: SetPositionOptions {
+                clear_position_lag: r.clear_position_lag,
+                ..Default::default()
+            },
         }),
         l,
     ))
 }
 
-fn decode_write_parameter(r: WriteParameterRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
+fn decode_write_parameter(
+    r: WriteParameterRequest,
+) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "write_parameter");
     // The persistent variants behave like the plain ones in the simulator (no boot storage).
     let cmd = if r.is_bool {
@@ -226,8 +297,18 @@ fn decode_write_parameter(r: WriteParameterRequest) -> Result<(AxisCommand, Comm
 }
 
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
-    shell.command_service("power", Power::service_type_name(), decode_power, respond_power)?;
-    shell.command_service("reset", Reset::service_type_name(), decode_reset, respond::<ResetResponse>)?;
+    shell.command_service(
+        "power",
+        Power::service_type_name(),
+        decode_power,
+        respond_power,
+    )?;
+    shell.command_service(
+        "reset",
+        Reset::service_type_name(),
+        decode_reset,
+        respond::<ResetResponse>,
+    )?;
     shell.command_service(
         "move_absolute",
         MoveAbsolute::service_type_name(),
@@ -252,7 +333,12 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
         decode_move_velocity,
         respond::<MoveVelocityResponse>,
     )?;
-    shell.command_service("halt", Halt::service_type_name(), decode_halt, respond::<HaltResponse>)?;
+    shell.command_service(
+        "halt",
+        Halt::service_type_name(),
+        decode_halt,
+        respond::<HaltResponse>,
+    )?;
     shell.command_service(
         "set_position",
         SetPosition::service_type_name(),
@@ -268,6 +354,7 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
     register_stop(shell)?;
     register_read_parameter(shell)?;
     register_sim(shell)?;
+    crate::fbs::register(shell)?;
     Ok(())
 }
 
@@ -277,41 +364,60 @@ fn register_stop(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     let latest: Arc<Mutex<HashMap<String, CmdId>>> = Arc::default();
     let handle = shell.handle.clone();
     let registry = shell.registry.clone();
-    shell.service::<StopRequest, StopResponse, _, _>("stop", Stop::service_type_name(), move |r: StopRequest| {
-        let handle = handle.clone();
-        let latest = latest.clone();
-        let registry = registry.clone();
-        async move {
-            let outcome = if r.execute {
-                let cmd = AxisCommand::Stop(axis_engine::Stop {
-                    axis: r.axis.clone(),
-                    deceleration: r.deceleration,
-                    jerk: r.jerk,
-                    options: MoveOptions::default(),
-                });
-                let o = handle.call(cmd).await;
-                if let Ok(reply) = &o {
-                    latest.lock().unwrap_or_else(|e| e.into_inner()).insert(r.axis.clone(), reply.id);
-                    registry.insert(reply.id, label(&r.axis, "stop"));
-                }
-                o
-            } else {
-                let id = latest.lock().unwrap_or_else(|e| e.into_inner()).remove(&r.axis);
-                match id {
-                    Some(id) => handle.call(AxisCommand::SetExecute { id, execute: false }).await,
-                    // No MC_Stop instance is held for this axis: a falling edge changes nothing.
-                    None if known_axis(&handle, &r.axis) => {
-                        Ok(AxisReply { id: CmdId(0), value: ReplyValue::None, tracked: false })
+    shell.service::<StopRequest, StopResponse, _, _>(
+        "stop",
+        Stop::service_type_name(),
+        move |r: StopRequest| {
+            let handle = handle.clone();
+            let latest = latest.clone();
+            let registry = registry.clone();
+            async move {
+                let outcome = if r.execute {
+                    let cmd = AxisCommand::Stop(axis_engine::Stop {
+                        axis: r.axis.clone(),
+                        deceleration: r.deceleration,
+                        jerk: r.jerk,
+                        options: MoveOptions::default(),
+                    });
+                    let o = handle.call(cmd).await;
+                    if let Ok(reply) = &o {
+                        latest
+                            .lock()
+                            .unwrap_or_else(|e| e.into_inner())
+                            .insert(r.axis.clone(), reply.id);
+                        registry.insert(reply.id, label(&r.axis, "stop"));
                     }
-                    None => Err(Rejection::unknown_object("axis", &r.axis)),
-                }
-            };
-            respond::<StopResponse>(outcome)
-        }
-    })
+                    o
+                } else {
+                    let id = latest
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .remove(&r.axis);
+                    match id {
+                        Some(id) => {
+                            handle
+                                .call(AxisCommand::SetExecute { id, execute: false })
+                                .await
+                        }
+                        // No MC_Stop instance is held for this axis: a falling edge changes nothing.
+                        None if known_axis(&handle, &r.axis) => Ok(AxisReply {
+                            id: CmdId(0),
+                            value: ReplyValue::None,
+                            tracked: false,
+                        }),
+                        None => Err(Rejection::unknown_object("axis", &r.axis)),
+                    }
+                };
+                respond::<StopResponse>(outcome)
+            }
+        },
+    )
 }
 
-fn known_axis(handle: &motion_runtime::ControllerHandle<AxisEngine>, axis: &str) -> bool {
+pub(crate) fn known_axis(
+    handle: &motion_runtime::ControllerHandle<AxisEngine>,
+    axis: &str,
+) -> bool {
     handle.snapshot().state.axes.iter().any(|a| a.name == axis)
 }
 
@@ -368,17 +474,57 @@ fn register_read_parameter(shell: &mut NodeShell<AxisEngine>) -> Result<(), Shel
 /// `~/sim/inject_error`: the simulation hook of single_axis.md §1.5 (axis error or drive fault).
 fn register_sim(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     shell.command_service(
+        "sim/set_following_offset",
+        SetFollowingOffset::service_type_name(),
+        |r: SetFollowingOffsetRequest| {
+            let l = label(&r.axis, "sim/set_following_offset");
+            Ok((
+                AxisCommand::Sim(Sim::SetFollowingOffset {
+                    axis: r.axis,
+                    offset: r.offset,
+                }),
+                l,
+            ))
+        },
+        respond::<SetFollowingOffsetResponse>,
+    )?;
+    shell.command_service(
+        "sim/probe_input",
+        SetProbeInput::service_type_name(),
+        |r: SetProbeInputRequest| {
+            let l = label(&r.axis, "sim/probe_input");
+            Ok((
+                AxisCommand::Sim(Sim::ProbeInput {
+                    axis: r.axis,
+                    unit: r.unit,
+                    level: r.level,
+                }),
+                l,
+            ))
+        },
+        respond::<SetProbeInputResponse>,
+    )?;
+    shell.command_service(
         "sim/inject_error",
         InjectError::service_type_name(),
         |r: InjectErrorRequest| {
             let l = label(&r.axis, "sim/inject_error");
             if r.error_id == 0 {
-                return Err(Rejection::new(ErrorId::VALUE_OUT_OF_RANGE, "error_id = 0 is not an error"));
+                return Err(Rejection::new(
+                    ErrorId::VALUE_OUT_OF_RANGE,
+                    "error_id = 0 is not an error",
+                ));
             }
             let sim = if r.drive_fault {
-                Sim::DriveFault { axis: r.axis, error_id: r.error_id }
+                Sim::DriveFault {
+                    axis: r.axis,
+                    error_id: r.error_id,
+                }
             } else {
-                Sim::InjectAxisError { axis: r.axis, error_id: r.error_id }
+                Sim::InjectAxisError {
+                    axis: r.axis,
+                    error_id: r.error_id,
+                }
             };
             Ok((AxisCommand::Sim(sim), l))
         },

@@ -518,12 +518,15 @@ where
                     };
                     let mut accepted = Vec::new();
                     for (gid, cid) in targets {
+                        // Marked before the engine aborts the command: the goal task may see
+                        // the Aborted event before this task sees the cancel's reply.
+                        canceled.lock().unwrap_or_else(|e| e.into_inner()).insert(gid);
                         match handle.cancel(cid).await {
-                            Ok(()) => {
-                                canceled.lock().unwrap_or_else(|e| e.into_inner()).insert(gid);
-                                accepted.push(gid)
+                            Ok(()) => accepted.push(gid),
+                            Err(r) => {
+                                canceled.lock().unwrap_or_else(|e| e.into_inner()).remove(&gid);
+                                tracing::warn!("{aname}: cancel of command {} refused: {r}", cid.0)
                             }
-                            Err(r) => tracing::warn!("{aname}: cancel of command {} refused: {r}", cid.0),
                         }
                     }
                     if let Err(e) = server.respond_to_cancel_requests(&cancel, accepted.into_iter()).await {
@@ -772,6 +775,11 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
                 let _ = server.publish_feedback(executing.clone(), fb).await;
                 if let Some(query) = binding.reached_query(id) {
                     if matches!(handle.call(query).await, Ok(r) if binding.reached(&r)) {
+                        // The result is built from the snapshot: let it catch up with the
+                        // cycle that showed the output (bounded: a paused lockstep node).
+                        let mut snaps = handle.snapshots();
+                        snaps.borrow_and_update();
+                        let _ = tokio::time::timeout(feedback_period, snaps.changed()).await;
                         break CommandState::Done;
                     }
                 }

@@ -881,6 +881,27 @@ pub enum AxisCommand {
         /// bCalibrationCam.
         calibration_cam: bool,
     },
+    /// Not an FB: reads the current outputs of an admitted instance, as a PLC reads its FB
+    /// instance (reply [`ReplyValue::Outputs`]; unknown id → `UNKNOWN_OBJECT`). Changes nothing.
+    ReadFbOutputs {
+        /// The instance.
+        id: CmdId,
+    },
+}
+
+/// The outputs of one FB instance ([`AxisCommand::ReadFbOutputs`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct InstanceOutputs {
+    /// Axis of the instance (the slave for gearing FBs).
+    pub axis: String,
+    /// The FB.
+    pub kind: crate::handshake::FbKind,
+    /// Done/Busy/Active/CommandAborted/Error/ErrorID and the InVelocity-type flags.
+    pub outputs: crate::handshake::FbOutputs,
+    /// MC_MoveSuperImposed: Warning, WarningID and the Actual* outputs.
+    pub superimposed: Option<crate::superposition::SuperImposedOutputs>,
+    /// MC_TouchProbe: RecordedPosition and RecordedData (after the first accepted edge).
+    pub probe: Option<crate::probe::ProbeOutputs>,
 }
 
 /// A value returned at once by read-type FBs.
@@ -896,6 +917,8 @@ pub enum ReplyValue {
     DWord(u32),
     /// MC_ReadStatus.
     Status(Box<AxisStatus>),
+    /// [`AxisCommand::ReadFbOutputs`].
+    Outputs(Box<InstanceOutputs>),
 }
 
 /// The answer to an accepted command.
@@ -949,7 +972,8 @@ impl AxisCommand {
             SetExecute { .. }
             | HomeCalibrationCam { .. }
             | TorqueControlUpdate { .. }
-            | TouchProbePlcEvent { .. } => return None,
+            | TouchProbePlcEvent { .. }
+            | ReadFbOutputs { .. } => return None,
             Sim(s) => match s {
                 self::Sim::InjectAxisError { axis, .. }
                 | self::Sim::DriveFault { axis, .. }

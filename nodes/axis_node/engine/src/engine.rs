@@ -1810,6 +1810,31 @@ impl AxisEngine {
         self.fbs.probes.get(&id).copied()
     }
 
+    fn read_fb_outputs(&mut self, id: CmdId) -> Result<AxisReply, Rejection> {
+        let (axis, kind) = self
+            .instance(id)
+            .map(|(a, k)| (a.to_string(), k))
+            .ok_or_else(|| {
+                reject(
+                    ErrorId::UNKNOWN_OBJECT,
+                    format!("unknown command instance {}", id.0),
+                )
+            })?;
+        let outputs = InstanceOutputs {
+            axis,
+            kind,
+            outputs: self.fb_outputs(id).unwrap_or_default(),
+            superimposed: self.superimposed_outputs(id),
+            probe: self.probe_outputs(id),
+        };
+        // The instance's own id, so the reply names what was read.
+        Ok(AxisReply {
+            id,
+            value: ReplyValue::Outputs(Box::new(outputs)),
+            tracked: false,
+        })
+    }
+
     // ------------------------------------------------------------------ SetExecute
 
     fn set_execute(&mut self, id: CmdId, execute: bool) -> Result<AxisReply, Rejection> {
@@ -2140,6 +2165,7 @@ impl Engine for AxisEngine {
     fn command(&mut self, cmd: AxisCommand) -> Result<AxisReply, Rejection> {
         match cmd {
             AxisCommand::SetExecute { id, execute } => return self.set_execute(id, execute),
+            AxisCommand::ReadFbOutputs { id } => return self.read_fb_outputs(id),
             AxisCommand::HomeCalibrationCam {
                 id,
                 calibration_cam,
@@ -2377,7 +2403,8 @@ impl Engine for AxisEngine {
             AxisCommand::SetExecute { .. }
             | AxisCommand::HomeCalibrationCam { .. }
             | AxisCommand::TorqueControlUpdate { .. }
-            | AxisCommand::TouchProbePlcEvent { .. } => {
+            | AxisCommand::TouchProbePlcEvent { .. }
+            | AxisCommand::ReadFbOutputs { .. } => {
                 unreachable!("handled above")
             }
         }
