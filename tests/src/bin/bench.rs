@@ -49,6 +49,7 @@ fn main() {
     let all = !args.iter().any(|a| ["runtime", "roundtrip", "axis", "ruckig"].contains(&a.as_str()));
     if all || args.iter().any(|a| a == "runtime") {
         let secs = if smoke { 2.0 } else { 60.0 };
+        bare_sleep_reference(secs);
         runtime_jitter(secs, 0.0);
         runtime_jitter(secs, 100e-6);
     }
@@ -227,6 +228,29 @@ fn ruckig_ratio(count: usize) {
     println!(
         "trajectory vs PyPI ruckig ({n} random moves from rest): duration ratio max {max_ratio:.6} mean {:.6} (target max <= 1.001) | limit violations {violations} | planning failures {failures}",
         sum / n.max(1) as f64
+    );
+}
+
+/// The reference: a bare absolute-deadline `clock_nanosleep` loop on this machine, same length.
+fn bare_sleep_reference(seconds: f64) {
+    let period = Duration::from_millis(1);
+    let n = (seconds * 1000.0) as usize;
+    let mut late = Vec::with_capacity(n);
+    motion_runtime::rt::prepare_cycle_thread();
+    let mut deadline = Instant::now() + period;
+    for _ in 0..n {
+        motion_runtime::rt::sleep_until(deadline);
+        late.push(Instant::now().saturating_duration_since(deadline).as_secs_f64());
+        deadline += period;
+    }
+    let over = late.iter().filter(|l| **l > 1e-3).count();
+    let max = late.iter().cloned().fold(0.0, f64::max);
+    let (p50, p99) = (percentile(&mut late, 0.5), percentile(&mut late, 0.99));
+    println!(
+        "reference: bare clock_nanosleep loop @1 kHz, {seconds:.0} s: wake-up late p50 {:.1} us p99 {:.1} us max {:.1} us, later than one period: {over}",
+        p50 * 1e6,
+        p99 * 1e6,
+        max * 1e6
     );
 }
 
