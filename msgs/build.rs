@@ -1130,6 +1130,19 @@ fn type_description(ty: &Type) -> String {
     }
 }
 
+/// True for a response with the answer fields every command service has (README "ROS API
+/// rules"): `bool accepted`, `uint64 command_id`, `uint32 error_id`, `string message`.
+fn is_command_response(m: &MessageSpec) -> bool {
+    let has = |name: &str, prim: &str| {
+        m.fields.iter().any(|f| {
+            f.name == name
+                && matches!(f.ty.array, ArrayKind::None)
+                && matches!(&f.ty.base, BaseType::Primitive { name: n, string_bound: None } if n == prim)
+        })
+    };
+    has("accepted", "bool") && has("command_id", "uint64") && has("error_id", "uint32") && has("message", "string")
+}
+
 /// The member rosidl adds to structures without fields.
 const EMPTY_MEMBER: &str = "structure_needs_at_least_one_member";
 
@@ -1257,6 +1270,19 @@ fn gen_struct(out: &mut String, kind: &str, m: &MessageSpec, ind: &str) {
     }
     let _ = writeln!(out, "{ind}        }}\n{ind}    }}\n{ind}}}\n");
     let _ = writeln!(out, "{ind}impl ::ros2_client::Message for {sname} {{}}\n");
+    if is_command_response(m) {
+        let _ = writeln!(
+            out,
+            "{ind}impl {}::CommandResponse for {sname} {{\n\
+             {ind}    fn answer(&mut self, accepted: bool, command_id: u64, error_id: u32, message: String) {{\n\
+             {ind}        self.accepted = accepted;\n\
+             {ind}        self.command_id = command_id;\n\
+             {ind}        self.error_id = error_id;\n\
+             {ind}        self.message = message;\n\
+             {ind}    }}\n{ind}}}\n",
+            shared()
+        );
+    }
     let _ = writeln!(
         out,
         "{ind}impl {}::RosType for {sname} {{\n\

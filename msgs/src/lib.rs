@@ -38,6 +38,14 @@ pub trait RosType {
     const DDS_TYPE_NAME: &'static str;
 }
 
+/// A command service's response: the answer every command service gives at once (README "ROS
+/// API rules"). Generated for every response with `bool accepted`, `uint64 command_id`,
+/// `uint32 error_id` and `string message`.
+pub trait CommandResponse: Default {
+    /// Sets the four answer fields.
+    fn answer(&mut self, accepted: bool, command_id: u64, error_id: u32, message: String);
+}
+
 /// A service: request and response types and the ros2-client type name.
 pub trait RosService {
     /// Request message.

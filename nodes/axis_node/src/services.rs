@@ -8,6 +8,7 @@ use axis_engine::{
 };
 use motion_core::{CmdId, ErrorId, Rejection};
 use motion_msgs::srv::*;
+use motion_msgs::CommandResponse;
 use motion_runtime::{CommandLabel, NodeShell, ShellError};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -15,85 +16,9 @@ use std::sync::{Arc, Mutex};
 /// Result of one command service call.
 pub(crate) type Outcome = Result<AxisReply, Rejection>;
 
-/// The fields every command response has.
-pub(crate) struct Answer {
-    pub accepted: bool,
-    pub command_id: u64,
-    pub error_id: u32,
-    pub message: String,
-}
-
-impl Answer {
-    pub fn of(o: &Outcome) -> Answer {
-        match o {
-            Ok(r) => Answer {
-                accepted: true,
-                command_id: r.id.0,
-                error_id: 0,
-                message: String::new(),
-            },
-            Err(e) => Answer {
-                accepted: false,
-                command_id: 0,
-                error_id: e.error_id.0,
-                message: e.message.clone(),
-            },
-        }
-    }
-}
-
-macro_rules! command_response {
-    ($($resp:ident),* $(,)?) => {$(
-        #[allow(clippy::needless_update)] // responses with extra fields take their defaults
-        impl From<Answer> for $resp {
-            fn from(a: Answer) -> Self {
-                $resp {
-                    accepted: a.accepted,
-                    command_id: a.command_id,
-                    error_id: a.error_id,
-                    message: a.message,
-                    ..Default::default()
-                }
-            }
-        }
-    )*};
-}
-
-command_response!(
-    ResetResponse,
-    MoveAbsoluteResponse,
-    MoveRelativeResponse,
-    MoveAdditiveResponse,
-    MoveVelocityResponse,
-    HaltResponse,
-    StopResponse,
-    SetPositionResponse,
-    WriteParameterResponse,
-    PowerResponse,
-    MoveModuloResponse,
-    MoveContinuousAbsoluteResponse,
-    MoveContinuousRelativeResponse,
-    HomeResponse,
-    HomeCalibrationCamResponse,
-    GearInResponse,
-    GearOutResponse,
-    GearInDynResponse,
-    TorqueControlResponse,
-    TorqueControlUpdateResponse,
-    MoveSuperImposedResponse,
-    AbortSuperpositionResponse,
-    TouchProbeResponse,
-    TouchProbePlcEventResponse,
-    AbortTriggerResponse,
-    SetExecuteResponse,
-    SetFollowingOffsetResponse,
-    SetProbeInputResponse,
-    JogResponse,
-    SetOverrideResponse,
-);
-
-pub(crate) fn respond<R: From<Answer>>(o: Outcome) -> R {
-    R::from(Answer::of(&o))
+/// The answer of a command service (accepted with the command id, or rejected).
+pub(crate) fn respond<R: CommandResponse>(o: Outcome) -> R {
+    motion_runtime::shell::respond(&o, |r| r.id)
 }
 
 pub(crate) fn label(axis: &str, command: &str) -> CommandLabel {
@@ -532,4 +457,3 @@ fn register_sim(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     )
 }
 
-command_response!(InjectErrorResponse);

@@ -7,6 +7,7 @@
 use crate::cell::{parse_patch, Cell, CellCommand, CellReply};
 use motion_core::{ErrorId, Rejection};
 use motion_msgs::srv::*;
+use motion_msgs::CommandResponse;
 use motion_runtime::{CommandLabel, NodeShell, ShellError};
 use pickplace_engine::config::MAX_BELTS;
 use pickplace_engine::{FaultKind, PickPlaceCommand, ServiceRequest, StopInputs};
@@ -14,64 +15,9 @@ use pickplace_engine::{FaultKind, PickPlaceCommand, ServiceRequest, StopInputs};
 /// Result of one command service call.
 pub(crate) type Outcome = Result<CellReply, Rejection>;
 
-/// The fields every command response has.
-pub(crate) struct Answer {
-    pub accepted: bool,
-    pub command_id: u64,
-    pub error_id: u32,
-    pub message: String,
-}
-
-impl Answer {
-    pub fn of(o: &Outcome) -> Answer {
-        match o {
-            Ok(r) => Answer {
-                accepted: true,
-                command_id: r.id.0,
-                error_id: 0,
-                message: String::new(),
-            },
-            Err(e) => Answer {
-                accepted: false,
-                command_id: 0,
-                error_id: e.error_id.0,
-                message: e.message.clone(),
-            },
-        }
-    }
-}
-
-macro_rules! command_response {
-    ($($resp:ident),* $(,)?) => {$(
-        impl From<Answer> for $resp {
-            fn from(a: Answer) -> Self {
-                $resp { accepted: a.accepted, command_id: a.command_id, error_id: a.error_id, message: a.message }
-            }
-        }
-    )*};
-}
-
-command_response!(
-    PickPlaceSetEnableResponse,
-    PickPlaceSetRegulatorOnResponse,
-    PickPlaceSetInternalControlResponse,
-    PickPlaceTriggerResponse,
-    PickPlaceSetStopInputsResponse,
-    PickPlaceSetOverrideResponse,
-    PickPlaceJogResponse,
-    PickPlaceExecuteResponse,
-    PickPlaceSetParamsResponse,
-    PickPlaceSetBeltParamsResponse,
-    PickPlaceBeltInputResponse,
-    PickPlaceDetectWorkpieceResponse,
-    PickPlaceServiceRequestResponse,
-    PickPlaceSimSetBeltVelocityResponse,
-    PickPlaceSimSetDigitalInputsResponse,
-    PickPlaceSimInjectFaultResponse,
-);
-
-fn respond<R: From<Answer>>(o: Outcome) -> R {
-    R::from(Answer::of(&o))
+/// The answer of a command service (accepted with the command id, or rejected).
+fn respond<R: CommandResponse>(o: Outcome) -> R {
+    motion_runtime::shell::respond(&o, |r| r.id)
 }
 
 /// Commands act on the one cell; belt commands name the belt (`cv<n>`).

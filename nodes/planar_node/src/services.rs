@@ -5,6 +5,7 @@
 
 use motion_core::{ErrorId, Rejection};
 use motion_msgs::srv::*;
+use motion_msgs::CommandResponse;
 use motion_runtime::{CommandLabel, NodeShell, ShellError};
 use planar_engine::{
     Direction, DynamicConstraint, ErrorReaction, ExternalSetpointGenerationOptions,
@@ -15,102 +16,27 @@ use planar_engine::{
 /// Result of one command service call.
 pub(crate) type Outcome = Result<PlanarReply, Rejection>;
 
-/// The fields every command response has.
-pub(crate) struct Answer {
-    accepted: bool,
-    command_id: u64,
-    error_id: u32,
-    message: String,
-    warning_id: u32,
+/// The answer of a command service (accepted with the command id, or rejected).
+fn respond<R: CommandResponse>(o: Outcome) -> R {
+    motion_runtime::shell::respond(&o, |r| r.id)
 }
 
-impl Answer {
-    fn of(o: &Outcome) -> Answer {
-        match o {
-            Ok(r) => Answer {
-                accepted: true,
-                command_id: r.id.0,
-                error_id: 0,
-                message: String::new(),
-                warning_id: r.warning_id.0,
-            },
-            Err(e) => Answer {
-                accepted: false,
-                command_id: 0,
-                error_id: e.error_id.0,
-                message: e.message.clone(),
-                warning_id: 0,
-            },
-        }
-    }
+/// Responses of the motion services also carry the command's warning (W_DYNAMICS_REDUCED).
+trait WithWarning {
+    fn set_warning(&mut self, warning_id: u32);
 }
 
-macro_rules! command_response {
+macro_rules! with_warning {
     ($($resp:ident),* $(,)?) => {$(
-        impl From<Answer> for $resp {
-            // Queries have further fields, filled by their `respond`.
-            #[allow(clippy::needless_update)]
-            fn from(a: Answer) -> Self {
-                $resp {
-                    accepted: a.accepted,
-                    command_id: a.command_id,
-                    error_id: a.error_id,
-                    message: a.message,
-                    ..Default::default()
-                }
+        impl WithWarning for $resp {
+            fn set_warning(&mut self, warning_id: u32) {
+                self.warning_id = warning_id;
             }
         }
     )*};
 }
 
-macro_rules! motion_response {
-    ($($resp:ident),* $(,)?) => {$(
-        impl From<Answer> for $resp {
-            fn from(a: Answer) -> Self {
-                $resp {
-                    accepted: a.accepted,
-                    command_id: a.command_id,
-                    error_id: a.error_id,
-                    message: a.message,
-                    warning_id: a.warning_id,
-                }
-            }
-        }
-    )*};
-}
-
-command_response!(
-    EnvironmentClearResponse,
-    EnvironmentAddStatorResponse,
-    EnvironmentCreateBoundaryResponse,
-    EnvironmentAddToGroupResponse,
-    EnvironmentRemoveFromGroupResponse,
-    EnvironmentGetPlanarObjectInfoResponse,
-    MoverEnableResponse,
-    MoverDisableResponse,
-    MoverResetResponse,
-    MoverSetPositionResponse,
-    MoverStartExternalSetpointGenerationResponse,
-    MoverStopExternalSetpointGenerationResponse,
-    MoverSetExternalSetpointResponse,
-    MoverSetExternalSetpointReferenceIdResponse,
-    MoverAddToGroupResponse,
-    MoverRemoveFromGroupResponse,
-    MoverGetPositionOnCurrentPartResponse,
-    MoverGetPlanarObjectInfoResponse,
-    GroupEnableResponse,
-    GroupDisableResponse,
-    GroupResetResponse,
-    PartInitializeResponse,
-    PartActivatePositionResponse,
-    PartAllowEnableResponse,
-    PartForceDisableResponse,
-    PartResetResponse,
-    PartGetPositionResponse,
-    PlanarInjectErrorResponse,
-);
-
-motion_response!(
+with_warning!(
     MoverMoveToPositionResponse,
     MoverMoveZResponse,
     MoverMoveAResponse,
@@ -119,8 +45,12 @@ motion_response!(
     MoverHaltResponse,
 );
 
-fn respond<R: From<Answer>>(o: Outcome) -> R {
-    R::from(Answer::of(&o))
+/// [`respond`] plus the warning id of an accepted motion command.
+fn respond_motion<R: CommandResponse + WithWarning>(o: Outcome) -> R {
+    let warning = o.as_ref().map(|r| r.warning_id.0).unwrap_or(0);
+    let mut r: R = respond(o);
+    r.set_warning(warning);
+    r
 }
 
 pub(crate) fn label(object: &str, command: &str) -> CommandLabel {
@@ -300,7 +230,7 @@ fn mover_cmd(mover: &str, command: &str, cmd: PlanarCommand) -> Decoded {
     Ok((cmd, label(mover, command)))
 }
 
-fn position_response<R: From<Answer>>(o: Outcome, set: impl FnOnce(&mut R, PositionXYC)) -> R {
+fn position_response<R: CommandResponse>(o: Outcome, set: impl FnOnce(&mut R, PositionXYC)) -> R {
     let p = match &o {
         Ok(PlanarReply {
             value: ReplyValue::Position(p),
@@ -336,31 +266,31 @@ pub(crate) fn register(
         "mover_move_to_position",
         MoverMoveToPosition::service_type_name(),
         |r: MoverMoveToPositionRequest| move_to_position_req(&r),
-        respond::<MoverMoveToPositionResponse>,
+        respond_motion::<MoverMoveToPositionResponse>,
     )?;
     shell.command_service(
         "mover_move_z",
         MoverMoveZ::service_type_name(),
         |r: MoverMoveZRequest| move_z_req(&r),
-        respond::<MoverMoveZResponse>,
+        respond_motion::<MoverMoveZResponse>,
     )?;
     shell.command_service(
         "mover_move_a",
         MoverMoveA::service_type_name(),
         |r: MoverMoveARequest| move_a_req(&r),
-        respond::<MoverMoveAResponse>,
+        respond_motion::<MoverMoveAResponse>,
     )?;
     shell.command_service(
         "mover_move_b",
         MoverMoveB::service_type_name(),
         |r: MoverMoveBRequest| move_b_req(&r),
-        respond::<MoverMoveBResponse>,
+        respond_motion::<MoverMoveBResponse>,
     )?;
     shell.command_service(
         "mover_move_c",
         MoverMoveC::service_type_name(),
         |r: MoverMoveCRequest| move_c_req(&r),
-        respond::<MoverMoveCResponse>,
+        respond_motion::<MoverMoveCResponse>,
     )?;
     shell.command_service(
         "mover_halt",
@@ -376,7 +306,7 @@ pub(crate) fn register(
                 },
             )
         },
-        respond::<MoverHaltResponse>,
+        respond_motion::<MoverHaltResponse>,
     )?;
     shell.command_service(
         "mover_enable",

@@ -167,6 +167,17 @@ pub struct NodeShell<E: Engine> {
     spinner: Option<JoinHandle<()>>,
 }
 
+/// The answer of a command service (README "ROS API rules"): accepted with the command id, or
+/// rejected with the error id and message; `id` reads the command id from the engine's reply.
+pub fn respond<R: motion_msgs::CommandResponse, T>(o: &Result<T, Rejection>, id: impl Fn(&T) -> CmdId) -> R {
+    let mut r = R::default();
+    match o {
+        Ok(reply) => r.answer(true, id(reply).0, 0, String::new()),
+        Err(e) => r.answer(false, 0, e.error_id.0, e.message.clone()),
+    }
+    r
+}
+
 /// Current ROS time of the node as a message stamp.
 pub fn stamp_of(node: &Node) -> Time {
     let nanos = node.time_now().to_nanos();
