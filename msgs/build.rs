@@ -1140,7 +1140,10 @@ fn is_command_response(m: &MessageSpec) -> bool {
                 && matches!(&f.ty.base, BaseType::Primitive { name: n, string_bound: None } if n == prim)
         })
     };
-    has("accepted", "bool") && has("command_id", "uint64") && has("error_id", "uint32") && has("message", "string")
+    has("accepted", "bool")
+        && has("command_id", "uint64")
+        && has("error_id", "uint32")
+        && has("message", "string")
 }
 
 /// The member rosidl adds to structures without fields.
@@ -1190,7 +1193,11 @@ fn gen_struct(out: &mut String, kind: &str, m: &MessageSpec, ind: &str) {
     if m.fields.is_empty() {
         // rosidl gives an empty structure one uint8 member (IDL has no empty structs), so an
         // empty request or goal is one byte on the wire, as rclpy sends it.
-        doc_line(out, &format!("{ind}    "), "Placeholder rosidl adds to empty structures.");
+        doc_line(
+            out,
+            &format!("{ind}    "),
+            "Placeholder rosidl adds to empty structures.",
+        );
         let _ = writeln!(out, "{ind}    pub {EMPTY_MEMBER}: u8,");
     }
     let _ = writeln!(out, "{ind}}}\n");

@@ -6,7 +6,10 @@ use motion_runtime::host::CommonConfig;
 use motion_runtime::shell::{create_context, service_qos, topic_qos};
 use motion_runtime::NodeHost;
 use ros2_client::action::{ActionClient, ActionClientQosPolicies};
-use ros2_client::{Client, Context, Message, MessageTypeName, Name, Node, NodeName, NodeOptions, ServiceMapping, ServiceTypeName, Subscription};
+use ros2_client::{
+    Client, Context, Message, MessageTypeName, Name, Node, NodeName, NodeOptions, ServiceMapping,
+    ServiceTypeName, Subscription,
+};
 use std::sync::atomic::{AtomicU16, Ordering};
 use std::time::Duration;
 
@@ -59,13 +62,21 @@ impl ClientNode {
     pub fn new(domain: u16, name: &str, mapping: ServiceMapping) -> Self {
         let context = create_context(domain).expect("client context");
         let mut node = context
-            .new_node(NodeName::new("/", name).expect("name"), NodeOptions::new().enable_rosout(false))
+            .new_node(
+                NodeName::new("/", name).expect("name"),
+                NodeOptions::new().enable_rosout(false),
+            )
             .expect("client node");
         let spinner = node.spinner().expect("spinner");
         let spinner = Some(tokio::spawn(async move {
             let _ = spinner.spin().await;
         }));
-        ClientNode { node, mapping, spinner, _context: context }
+        ClientNode {
+            node,
+            mapping,
+            spinner,
+            _context: context,
+        }
     }
 
     /// An absolute name.
@@ -123,7 +134,10 @@ where
     Fut: std::future::Future<Output = ()>,
 {
     within(20.0, &format!("{what} discovered"), async {
-        while tokio::time::timeout(Duration::from_millis(500), f()).await.is_err() {}
+        while tokio::time::timeout(Duration::from_millis(500), f())
+            .await
+            .is_err()
+        {}
     })
     .await
 }
@@ -137,20 +151,42 @@ impl ClientNode {
     {
         let cl = self
             .node
-            .create_client::<Req, Resp>(self.mapping, &ClientNode::name(name), &ty, service_qos(), service_qos())
+            .create_client::<Req, Resp>(
+                self.mapping,
+                &ClientNode::name(name),
+                &ty,
+                service_qos(),
+                service_qos(),
+            )
             .expect("client");
-        discovered(&format!("service {name}"), || cl.wait_for_service(&self.node)).await;
+        discovered(&format!("service {name}"), || {
+            cl.wait_for_service(&self.node)
+        })
+        .await;
         cl
     }
 
     /// A subscription on `name` with the state-topic QoS.
-    pub fn subscribe<M: Message + 'static>(&mut self, name: &str, ty: MessageTypeName) -> Subscription<M> {
-        let topic = self.node.create_topic(&ClientNode::name(name), ty, &topic_qos()).expect("topic");
-        self.node.create_subscription::<M>(&topic, None).expect("subscription")
+    pub fn subscribe<M: Message + 'static>(
+        &mut self,
+        name: &str,
+        ty: MessageTypeName,
+    ) -> Subscription<M> {
+        let topic = self
+            .node
+            .create_topic(&ClientNode::name(name), ty, &topic_qos())
+            .expect("topic");
+        self.node
+            .create_subscription::<M>(&topic, None)
+            .expect("subscription")
     }
 
     /// An action client on `name`, once its goal, cancel and result services are matched.
-    pub async fn action<G, R, F>(&mut self, name: &str, ty: &ros2_client::ActionTypeName) -> ActionClient<G, R, F>
+    pub async fn action<G, R, F>(
+        &mut self,
+        name: &str,
+        ty: &ros2_client::ActionTypeName,
+    ) -> ActionClient<G, R, F>
     where
         G: Message + Clone + 'static,
         R: Message + Clone + 'static,
@@ -158,11 +194,25 @@ impl ClientNode {
     {
         let ac = self
             .node
-            .create_action_client::<G, R, F>(self.mapping, &ClientNode::name(name), ty, action_client_qos())
+            .create_action_client::<G, R, F>(
+                self.mapping,
+                &ClientNode::name(name),
+                ty,
+                action_client_qos(),
+            )
             .expect("action client");
-        discovered(&format!("{name} goal service"), || ac.goal_client().wait_for_service(&self.node)).await;
-        discovered(&format!("{name} cancel service"), || ac.cancel_client().wait_for_service(&self.node)).await;
-        discovered(&format!("{name} result service"), || ac.result_client().wait_for_service(&self.node)).await;
+        discovered(&format!("{name} goal service"), || {
+            ac.goal_client().wait_for_service(&self.node)
+        })
+        .await;
+        discovered(&format!("{name} cancel service"), || {
+            ac.cancel_client().wait_for_service(&self.node)
+        })
+        .await;
+        discovered(&format!("{name} result service"), || {
+            ac.result_client().wait_for_service(&self.node)
+        })
+        .await;
         ac
     }
 }

@@ -3,10 +3,16 @@
 //! error ids), runs an action to its result and cancels one; with both request/reply mappings.
 
 use axis_node::AxisNode;
-use motion_msgs::action::{MoveAbsolute, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult};
-use motion_msgs::action::{MoveVelocity, MoveVelocityFeedback, MoveVelocityGoal, MoveVelocityResult};
+use motion_msgs::action::{
+    MoveAbsolute, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult,
+};
+use motion_msgs::action::{
+    MoveVelocity, MoveVelocityFeedback, MoveVelocityGoal, MoveVelocityResult,
+};
 use motion_msgs::msg::{AxisState, AxisStateArray, CommandStatus};
-use motion_msgs::srv::{self, MoveAbsoluteRequest, MoveAbsoluteResponse, Power, PowerRequest, PowerResponse};
+use motion_msgs::srv::{
+    self, MoveAbsoluteRequest, MoveAbsoluteResponse, Power, PowerRequest, PowerResponse,
+};
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
 use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
@@ -25,43 +31,86 @@ async fn scenario(mapping: ServiceMapping) {
     let mut c = ClientNode::new(domain, "test_client", mapping);
 
     // A state topic.
-    let states = c.subscribe::<AxisStateArray>("/axis_node/axis_states", AxisStateArray::type_name());
-    let statuses = c.subscribe::<CommandStatus>("/axis_node/command_status", CommandStatus::type_name());
-    let (first, _) = within(20.0, "first axis_states sample", states.async_take()).await.unwrap();
+    let states =
+        c.subscribe::<AxisStateArray>("/axis_node/axis_states", AxisStateArray::type_name());
+    let statuses =
+        c.subscribe::<CommandStatus>("/axis_node/command_status", CommandStatus::type_name());
+    let (first, _) = within(20.0, "first axis_states sample", states.async_take())
+        .await
+        .unwrap();
     assert_eq!(first.axes.len(), 1);
     assert_eq!(first.axes[0].name, "x");
     assert_eq!(first.axes[0].motion_state, AxisState::MC_AXISSTATE_DISABLED);
 
     // Services: power on, rejected moves (unknown axis, NaN, bad enum), then the action.
-    let power = c.client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name()).await;
-    let r = within(5.0, "power", power.async_call_service(PowerRequest { axis: "x".into(), enable: true, ..Default::default() }))
-        .await
-        .unwrap();
+    let power = c
+        .client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name())
+        .await;
+    let r = within(
+        5.0,
+        "power",
+        power.async_call_service(PowerRequest {
+            axis: "x".into(),
+            enable: true,
+            ..Default::default()
+        }),
+    )
+    .await
+    .unwrap();
     assert!(r.accepted, "power: {}", r.message);
 
-    let mv = c.client::<MoveAbsoluteRequest, MoveAbsoluteResponse>("/axis_node/move_absolute", srv::MoveAbsolute::service_type_name()).await;
+    let mv = c
+        .client::<MoveAbsoluteRequest, MoveAbsoluteResponse>(
+            "/axis_node/move_absolute",
+            srv::MoveAbsolute::service_type_name(),
+        )
+        .await;
     let call = |axis: &str, position: f64, buffer_mode: u8| {
-        mv.async_call_service(MoveAbsoluteRequest { axis: axis.into(), position, velocity: 10.0, buffer_mode, ..Default::default() })
+        mv.async_call_service(MoveAbsoluteRequest {
+            axis: axis.into(),
+            position,
+            velocity: 10.0,
+            buffer_mode,
+            ..Default::default()
+        })
     };
-    let bad = within(5.0, "move unknown axis", call("nope", 1.0, 0)).await.unwrap();
+    let bad = within(5.0, "move unknown axis", call("nope", 1.0, 0))
+        .await
+        .unwrap();
     assert!(!bad.accepted);
     assert_eq!(bad.error_id, 0x7F01, "{}", bad.message);
     assert!(bad.message.contains("nope"));
-    let nan = within(5.0, "move NaN", call("x", f64::NAN, 0)).await.unwrap();
+    let nan = within(5.0, "move NaN", call("x", f64::NAN, 0))
+        .await
+        .unwrap();
     assert!(!nan.accepted);
     assert_ne!(nan.error_id, 0, "{}", nan.message);
-    let bm = within(5.0, "move bad buffer mode", call("x", 1.0, 9)).await.unwrap();
+    let bm = within(5.0, "move bad buffer mode", call("x", 1.0, 9))
+        .await
+        .unwrap();
     assert!(!bm.accepted);
     assert_eq!(bm.error_id, 0x7F03, "{}", bm.message);
 
     // An action to its result: MC_MoveAbsolute to 50.
     let ac = c
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>("/axis_node/move_absolute", &MoveAbsolute::action_type_name())
+        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
+            "/axis_node/move_absolute",
+            &MoveAbsolute::action_type_name(),
+        )
         .await;
-    let goal = MoveAbsoluteGoal { axis: "x".into(), position: 50.0, velocity: 500.0, ..Default::default() };
-    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal)).await.unwrap();
+    let goal = MoveAbsoluteGoal {
+        axis: "x".into(),
+        position: 50.0,
+        velocity: 500.0,
+        ..Default::default()
+    };
+    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal))
+        .await
+        .unwrap();
     assert!(resp.accepted);
-    let (status, result) = within(20.0, "move result", ac.async_request_result(gid)).await.unwrap();
+    let (status, result) = within(20.0, "move result", ac.async_request_result(gid))
+        .await
+        .unwrap();
     assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
     assert!(result.done && !result.error);
     assert!((result.position - 50.0).abs() < 1e-6, "{}", result.position);
@@ -78,25 +127,53 @@ async fn scenario(mapping: ServiceMapping) {
     .await;
 
     // An action with an error: a goal on an unknown axis ends Aborted with the error id.
-    let goal = MoveAbsoluteGoal { axis: "nope".into(), position: 1.0, velocity: 10.0, ..Default::default() };
-    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(goal)).await.unwrap();
-    let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid)).await.unwrap();
+    let goal = MoveAbsoluteGoal {
+        axis: "nope".into(),
+        position: 1.0,
+        velocity: 10.0,
+        ..Default::default()
+    };
+    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(goal))
+        .await
+        .unwrap();
+    let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid))
+        .await
+        .unwrap();
     assert_eq!(status, GoalStatusEnum::Aborted);
     assert!(result.error);
     assert_eq!(result.error_id, 0x7F01);
 
     // Cancel: an endless MC_MoveVelocity; cancel = MC_Halt, the goal ends Canceled.
     let vc = c
-        .action::<MoveVelocityGoal, MoveVelocityResult, MoveVelocityFeedback>("/axis_node/move_velocity", &MoveVelocity::action_type_name())
+        .action::<MoveVelocityGoal, MoveVelocityResult, MoveVelocityFeedback>(
+            "/axis_node/move_velocity",
+            &MoveVelocity::action_type_name(),
+        )
         .await;
     // A slow ramp (100 s to InVelocity, where the goal would succeed): canceled while ramping.
-    let goal = MoveVelocityGoal { axis: "x".into(), velocity: 100.0, acceleration: 1.0, direction: 1, ..Default::default() };
-    let (gid, resp) = within(10.0, "send velocity goal", vc.async_send_goal(goal)).await.unwrap();
+    let goal = MoveVelocityGoal {
+        axis: "x".into(),
+        velocity: 100.0,
+        acceleration: 1.0,
+        direction: 1,
+        ..Default::default()
+    };
+    let (gid, resp) = within(10.0, "send velocity goal", vc.async_send_goal(goal))
+        .await
+        .unwrap();
     assert!(resp.accepted);
     tokio::time::sleep(std::time::Duration::from_millis(200)).await;
-    let cr = within(10.0, "cancel", vc.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO)).await.unwrap();
+    let cr = within(
+        10.0,
+        "cancel",
+        vc.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
     assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
-    let (status, result) = within(20.0, "canceled result", vc.async_request_result(gid)).await.unwrap();
+    let (status, result) = within(20.0, "canceled result", vc.async_request_result(gid))
+        .await
+        .unwrap();
     assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
     assert!(result.command_aborted);
     // MC_Halt brings the axis to standstill (it does not stay in ContinuousMotion).

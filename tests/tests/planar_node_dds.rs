@@ -40,11 +40,6 @@ fn start_node(domain: u16, mapping: ServiceMapping) -> PlanarNode {
         .expect("planar node")
 }
 
-
-
-
-
-
 /// Takes state samples until `pred` holds for one (within `secs`).
 async fn wait_state(
     states: &Subscription<PlanarState>,
@@ -100,8 +95,7 @@ async fn scenario(mapping: ServiceMapping) {
         (p.poses[1].position.x - 0.6).abs() < 1e-9 && (p.poses[1].position.y - 0.36).abs() < 1e-9,
         "{p:?}"
     );
-    let markers =
-        c.subscribe::<MarkerArray>("/planar_node/markers", MarkerArray::type_name());
+    let markers = c.subscribe::<MarkerArray>("/planar_node/markers", MarkerArray::type_name());
     let (m, _) = within(20.0, "markers", markers.async_take()).await.unwrap();
     let stators = m
         .markers
@@ -118,10 +112,12 @@ async fn scenario(mapping: ServiceMapping) {
     assert!((m2.scale.x - 0.21).abs() < 1e-9);
 
     // Services: enable m1 (Enabling -> Enabled after enable_time), rejections with their ids.
-    let enable = c.client::<MoverEnableRequest, MoverEnableResponse>("/planar_node/mover_enable",
-        MoverEnable::service_type_name(),
-    )
-    .await;
+    let enable = c
+        .client::<MoverEnableRequest, MoverEnableResponse>(
+            "/planar_node/mover_enable",
+            MoverEnable::service_type_name(),
+        )
+        .await;
     let r = within(
         5.0,
         "enable",
@@ -148,10 +144,12 @@ async fn scenario(mapping: ServiceMapping) {
     })
     .await;
 
-    let mv = c.client::<MoverMoveToPositionRequest, MoverMoveToPositionResponse>("/planar_node/mover_move_to_position",
-        srv::MoverMoveToPosition::service_type_name(),
-    )
-    .await;
+    let mv = c
+        .client::<MoverMoveToPositionRequest, MoverMoveToPositionResponse>(
+            "/planar_node/mover_move_to_position",
+            srv::MoverMoveToPosition::service_type_name(),
+        )
+        .await;
     // m2 is still Disabled: E_INVALID_STATE (xplanar.md §2.1, §6.2).
     let r = within(
         5.0,
@@ -182,10 +180,12 @@ async fn scenario(mapping: ServiceMapping) {
     .unwrap();
     assert!(!r.accepted);
     assert_eq!(r.error_id, 0x7F02, "{}", r.message);
-    let mc = c.client::<MoverMoveCRequest, MoverMoveCResponse>("/planar_node/mover_move_c",
-        srv::MoverMoveC::service_type_name(),
-    )
-    .await;
+    let mc = c
+        .client::<MoverMoveCRequest, MoverMoveCResponse>(
+            "/planar_node/mover_move_c",
+            srv::MoverMoveC::service_type_name(),
+        )
+        .await;
     let r = within(
         5.0,
         "move_c bad direction",
@@ -295,10 +295,12 @@ async fn scenario(mapping: ServiceMapping) {
 
     // The fault-injection hook (xplanar.md §6.2): m2 goes to Error with E_OBJECT_ERROR; a
     // wrong object kind is an enum error.
-    let inject = c.client::<PlanarInjectErrorRequest, PlanarInjectErrorResponse>("/planar_node/sim/inject_error",
-        PlanarInjectError::service_type_name(),
-    )
-    .await;
+    let inject = c
+        .client::<PlanarInjectErrorRequest, PlanarInjectErrorResponse>(
+            "/planar_node/sim/inject_error",
+            PlanarInjectError::service_type_name(),
+        )
+        .await;
     let bad = PlanarInjectErrorRequest {
         kind: 7,
         name: "m2".into(),

@@ -1,19 +1,30 @@
 //! The cyclonedds (Python) peer drives `motion_launch` over real DDS exactly as rclpy on
 //! rmw_cyclonedds_cpp would (issue 2 harness (b)): tests/peer/test_*.py.
 
-use system_tests::require_netns;
 use std::path::PathBuf;
 use std::process::Command;
+use system_tests::require_netns;
 
 fn workspace() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace").to_path_buf()
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace")
+        .to_path_buf()
 }
 
 /// `target/<profile>/motion_launch`, next to this test's `deps/` directory.
 fn launcher() -> PathBuf {
     let exe = std::env::current_exe().expect("test exe");
-    let bin = exe.parent().and_then(|d| d.parent()).expect("target dir").join("motion_launch");
-    assert!(bin.exists(), "{} missing: build the workspace first (scripts/test.sh does)", bin.display());
+    let bin = exe
+        .parent()
+        .and_then(|d| d.parent())
+        .expect("target dir")
+        .join("motion_launch");
+    assert!(
+        bin.exists(),
+        "{} missing: build the workspace first (scripts/test.sh does)",
+        bin.display()
+    );
     bin
 }
 
@@ -28,9 +39,16 @@ fn run_peer_test(script: &str, domain: u16) {
         .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     // unittest reports on stderr; keep the summary and failures, drop DDS log noise.
-    let report: Vec<&str> = stderr.lines().filter(|l| !l.contains("rustdds") && !l.contains("ros2_client")).collect();
+    let report: Vec<&str> = stderr
+        .lines()
+        .filter(|l| !l.contains("rustdds") && !l.contains("ros2_client"))
+        .collect();
     println!("{}", report.join("\n"));
-    assert!(out.status.success(), "{script} failed:\n{}", report.join("\n"));
+    assert!(
+        out.status.success(),
+        "{script} failed:\n{}",
+        report.join("\n")
+    );
 }
 
 #[test]

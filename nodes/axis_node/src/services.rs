@@ -456,4 +456,3 @@ fn register_sim(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
         respond::<InjectErrorResponse>,
     )
 }
-

@@ -3,4 +3,8 @@
 use motion_runtime::NodeKind;
 
 /// Every node kind of the suite.
-pub const KINDS: &[NodeKind] = &[axis_node::NODE_KIND, planar_node::NODE_KIND, pickplace_node::NODE_KIND];
+pub const KINDS: &[NodeKind] = &[
+    axis_node::NODE_KIND,
+    planar_node::NODE_KIND,
+    pickplace_node::NODE_KIND,
+];

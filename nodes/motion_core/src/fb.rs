@@ -9,7 +9,9 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// Identity of one admitted FB instance (one Execute edge). Unique per engine.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+)]
 pub struct CmdId(pub u64);
 
 /// The mutually exclusive phase of an Execute-type FB (single_axis.md §3.2).
@@ -30,7 +32,10 @@ pub enum CommandState {
 impl CommandState {
     /// Done, Aborted and Error end an instance; Busy and Active do not.
     pub fn is_final(self) -> bool {
-        matches!(self, CommandState::Done | CommandState::Aborted | CommandState::Error(_))
+        matches!(
+            self,
+            CommandState::Done | CommandState::Aborted | CommandState::Error(_)
+        )
     }
 }
 
@@ -92,12 +97,18 @@ pub struct Rejection {
 impl Rejection {
     /// A rejection with an id and a message.
     pub fn new(error_id: ErrorId, message: impl Into<String>) -> Self {
-        Rejection { error_id, message: message.into() }
+        Rejection {
+            error_id,
+            message: message.into(),
+        }
     }
 
     /// A NaN/infinite field.
     pub fn not_finite(object: &str, field: &str, value: f64) -> Self {
-        Rejection::new(ErrorId::NOT_FINITE, format!("{object}: {field} = {value} is not finite"))
+        Rejection::new(
+            ErrorId::NOT_FINITE,
+            format!("{object}: {field} = {value} is not finite"),
+        )
     }
 
     /// An unknown object name.

@@ -160,13 +160,24 @@ impl<E: Engine> Controller<E> {
         config: CycleConfig,
         reply_id: ReplyId<E>,
     ) -> std::io::Result<(Self, tmpsc::UnboundedReceiver<CommandEvent>)> {
-        assert!(config.period.is_finite() && config.period > 0.0, "period validated by config");
+        assert!(
+            config.period.is_finite() && config.period > 0.0,
+            "period validated by config"
+        );
         let (queue, rx) = mpsc::sync_channel(config.queue_capacity.max(1));
         let (control, control_rx) = mpsc::channel();
-        let first = Arc::new(Stamped { cycle: 0, sim_time: 0.0, state: engine.snapshot() });
+        let first = Arc::new(Stamped {
+            cycle: 0,
+            sim_time: 0.0,
+            state: engine.snapshot(),
+        });
         let (snap_tx, snapshots) = watch::channel(first);
         let (all_tx, all_rx) = tmpsc::unbounded_channel();
-        let stats = Arc::new(Mutex::new(CycleStats::new(&config.name, config.period, config.mode)));
+        let stats = Arc::new(Mutex::new(CycleStats::new(
+            &config.name,
+            config.period,
+            config.mode,
+        )));
         let stop = Arc::new(AtomicBool::new(false));
         let wake = Arc::new(Wake::default());
         let config = Arc::new(config);
@@ -193,8 +204,22 @@ impl<E: Engine> Controller<E> {
                 cycle.run();
                 cycle.engine
             })?;
-        let handle = ControllerHandle { queue, control, wake, snapshots, stats, config, stop };
-        Ok((Controller { handle, thread: Some(thread) }, all_rx))
+        let handle = ControllerHandle {
+            queue,
+            control,
+            wake,
+            snapshots,
+            stats,
+            config,
+            stop,
+        };
+        Ok((
+            Controller {
+                handle,
+                thread: Some(thread),
+            },
+            all_rx,
+        ))
     }
 
     /// A handle for the ROS side.
@@ -229,7 +254,11 @@ impl<E: Engine> ControllerHandle<E> {
         watcher: Option<tmpsc::UnboundedSender<CommandEvent>>,
     ) -> Result<oneshot::Receiver<Result<E::Reply, Rejection>>, Rejection> {
         let (reply, rx) = oneshot::channel();
-        self.push(Request::Command { cmd, reply, watcher })?;
+        self.push(Request::Command {
+            cmd,
+            reply,
+            watcher,
+        })?;
         Ok(rx)
     }
 
@@ -403,7 +432,10 @@ impl<E: Engine> CycleThread<E> {
                     }
                 }
                 None => {
-                    if self.cycle % u64::from(self.config.snapshot_every.max(1)) == 0 {
+                    if self
+                        .cycle
+                        .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
+                    {
                         self.take_snapshot();
                     }
                 }
@@ -432,7 +464,10 @@ impl<E: Engine> CycleThread<E> {
         while let Ok(req) = self.rx.try_recv() {
             self.apply(req);
         }
-        let tick = Tick { index: self.cycle, dt: self.config.period };
+        let tick = Tick {
+            index: self.cycle,
+            dt: self.config.period,
+        };
         self.engine.step(tick, &mut self.events);
         self.cycle += 1;
         // A command that ends is reported with the state it ended in: results built from the
@@ -450,7 +485,9 @@ impl<E: Engine> CycleThread<E> {
             }
         }
         if self.config.mode == ClockMode::RealTime
-            && self.cycle % u64::from(self.config.snapshot_every.max(1)) == 0
+            && self
+                .cycle
+                .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
         {
             self.take_snapshot();
         }
@@ -458,7 +495,11 @@ impl<E: Engine> CycleThread<E> {
 
     fn apply(&mut self, req: Request<E>) {
         match req {
-            Request::Command { cmd, reply, watcher } => {
+            Request::Command {
+                cmd,
+                reply,
+                watcher,
+            } => {
                 let result = self.engine.command(cmd);
                 if let (Ok(r), Some(w)) = (&result, watcher) {
                     if let Some(id) = (self.reply_id)(r) {

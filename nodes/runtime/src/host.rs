@@ -84,26 +84,49 @@ impl std::error::Error for ConfigError {}
 impl CommonConfig {
     /// Validates ranges and fills the default name. `location` prefixes error messages.
     pub fn validated(mut self, kind: &str, location: &str) -> Result<Self, ConfigError> {
-        let bad = |key: &str, msg: String| ConfigError { location: format!("{location}.{key}"), message: msg };
+        let bad = |key: &str, msg: String| ConfigError {
+            location: format!("{location}.{key}"),
+            message: msg,
+        };
         if self.name.is_empty() {
             self.name = kind.to_string();
         }
         if ros2_client::NodeName::new(&self.namespace, &self.name).is_err() {
-            return Err(bad("name", format!("'{}' in namespace '{}' is not a valid ROS node name", self.name, self.namespace)));
+            return Err(bad(
+                "name",
+                format!(
+                    "'{}' in namespace '{}' is not a valid ROS node name",
+                    self.name, self.namespace
+                ),
+            ));
         }
-        if !(self.cycle_period.is_finite() && self.cycle_period >= 1e-5 && self.cycle_period <= 1.0) {
-            return Err(bad("cycle_period", format!("{} s is outside 0.00001..1 s", self.cycle_period)));
+        if !(self.cycle_period.is_finite() && self.cycle_period >= 1e-5 && self.cycle_period <= 1.0)
+        {
+            return Err(bad(
+                "cycle_period",
+                format!("{} s is outside 0.00001..1 s", self.cycle_period),
+            ));
         }
         if !(self.state_rate.is_finite() && self.state_rate > 0.0 && self.state_rate <= 1000.0) {
-            return Err(bad("state_rate", format!("{} Hz is outside (0, 1000] Hz", self.state_rate)));
+            return Err(bad(
+                "state_rate",
+                format!("{} Hz is outside (0, 1000] Hz", self.state_rate),
+            ));
         }
         if self.queue_capacity == 0 || self.queue_capacity > 100_000 {
-            return Err(bad("queue_capacity", format!("{} is outside 1..100000", self.queue_capacity)));
+            return Err(bad(
+                "queue_capacity",
+                format!("{} is outside 1..100000", self.queue_capacity),
+            ));
         }
         if !(self.spin.is_finite() && self.spin >= 0.0 && self.spin <= 0.01) {
-            return Err(bad("spin", format!("{} s is outside [0, 0.01] s", self.spin)));
+            return Err(bad(
+                "spin",
+                format!("{} s is outside [0, 0.01] s", self.spin),
+            ));
         }
-        shell::service_mapping(Some(&self.service_mapping)).map_err(|e| bad("service_mapping", e.0))?;
+        shell::service_mapping(Some(&self.service_mapping))
+            .map_err(|e| bad("service_mapping", e.0))?;
         if self.use_sim_time {
             self.lockstep = true;
         }
@@ -115,7 +138,11 @@ impl CommonConfig {
         CycleConfig {
             name: self.name.clone(),
             period: self.cycle_period,
-            mode: if self.lockstep { ClockMode::Lockstep } else { ClockMode::RealTime },
+            mode: if self.lockstep {
+                ClockMode::Lockstep
+            } else {
+                ClockMode::RealTime
+            },
             queue_capacity: self.queue_capacity,
             snapshot_every: ((1.0 / self.state_rate / self.cycle_period).floor() as u32).max(1),
             // Never spin for more than half a period.
@@ -137,11 +164,20 @@ impl CommonConfig {
     /// The node-level ROS parameters (read-only at run time).
     pub fn parameters(&self) -> Vec<(String, ParameterValue)> {
         vec![
-            ("cycle_period".into(), ParameterValue::Double(self.cycle_period)),
+            (
+                "cycle_period".into(),
+                ParameterValue::Double(self.cycle_period),
+            ),
             ("state_rate".into(), ParameterValue::Double(self.state_rate)),
             ("lockstep".into(), ParameterValue::Boolean(self.lockstep)),
-            ("service_mapping".into(), ParameterValue::String(self.service_mapping.clone())),
-            ("queue_capacity".into(), ParameterValue::Integer(self.queue_capacity as i64)),
+            (
+                "service_mapping".into(),
+                ParameterValue::String(self.service_mapping.clone()),
+            ),
+            (
+                "queue_capacity".into(),
+                ParameterValue::Integer(self.queue_capacity as i64),
+            ),
         ]
     }
 }
@@ -166,13 +202,22 @@ pub fn split_entry(
         }
     }
     let common: CommonConfig = from_value(serde_yaml::Value::Mapping(common), location)?;
-    Ok((common.validated(kind, location)?, serde_yaml::Value::Mapping(engine)))
+    Ok((
+        common.validated(kind, location)?,
+        serde_yaml::Value::Mapping(engine),
+    ))
 }
 
 /// Deserializes part of a launch config with errors that name the key path.
-pub fn from_value<T: serde::de::DeserializeOwned>(v: serde_yaml::Value, location: &str) -> Result<T, ConfigError> {
+pub fn from_value<T: serde::de::DeserializeOwned>(
+    v: serde_yaml::Value,
+    location: &str,
+) -> Result<T, ConfigError> {
     // Going through text keeps serde_yaml's key path in the message ("axes.x: unknown field").
-    let text = serde_yaml::to_string(&v).map_err(|e| ConfigError { location: location.into(), message: e.to_string() })?;
+    let text = serde_yaml::to_string(&v).map_err(|e| ConfigError {
+        location: location.into(),
+        message: e.to_string(),
+    })?;
     serde_yaml::from_str(&text).map_err(|e| {
         let msg = e.to_string();
         // Line numbers refer to the re-serialized fragment, not the file: drop them.
@@ -180,7 +225,10 @@ pub fn from_value<T: serde::de::DeserializeOwned>(v: serde_yaml::Value, location
             Some(i) => msg[..i].to_string(),
             None => msg,
         };
-        ConfigError { location: location.into(), message: msg }
+        ConfigError {
+            location: location.into(),
+            message: msg,
+        }
     })
 }
 
@@ -226,7 +274,11 @@ where
             lockstep = common.lockstep,
             "node started"
         );
-        Ok(NodeHost { shell: Some(shell), controller: Some(controller), context: Some(context) })
+        Ok(NodeHost {
+            shell: Some(shell),
+            controller: Some(controller),
+            context: Some(context),
+        })
     }
 
     /// The cycle's handle.

@@ -61,7 +61,8 @@ pub type RunningNode = Box<dyn Running>;
 
 /// Starts one node of a kind: common settings, the engine's part of the entry, the location
 /// for error messages, the DDS domain. Must run inside a tokio runtime.
-pub type StartFn = fn(&CommonConfig, serde_yaml::Value, &str, u16) -> Result<RunningNode, StartError>;
+pub type StartFn =
+    fn(&CommonConfig, serde_yaml::Value, &str, u16) -> Result<RunningNode, StartError>;
 
 /// Checks the engine part of an entry without starting anything (`--check`).
 pub type CheckFn = fn(serde_yaml::Value, &str) -> Result<(), ConfigError>;
@@ -97,18 +98,23 @@ pub struct NodeEntry {
 /// Engine parts are checked when each node starts.
 pub fn load(path: &Path, kinds: &[NodeKind]) -> Result<Vec<NodeEntry>, ConfigError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| ConfigError { location: file.clone(), message: format!("cannot read: {e}") })?;
+    let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+        location: file.clone(),
+        message: format!("cannot read: {e}"),
+    })?;
     parse(&text, &file, kinds)
 }
 
 /// [`load`] on text (`file` names it in messages).
 pub fn parse(text: &str, file: &str, kinds: &[NodeKind]) -> Result<Vec<NodeEntry>, ConfigError> {
-    let root: serde_yaml::Value =
-        serde_yaml::from_str(text).map_err(|e| ConfigError { location: file.into(), message: e.to_string() })?;
-    let map = root
-        .as_mapping()
-        .ok_or_else(|| ConfigError { location: file.into(), message: "expected a mapping with key 'nodes'".into() })?;
+    let root: serde_yaml::Value = serde_yaml::from_str(text).map_err(|e| ConfigError {
+        location: file.into(),
+        message: e.to_string(),
+    })?;
+    let map = root.as_mapping().ok_or_else(|| ConfigError {
+        location: file.into(),
+        message: "expected a mapping with key 'nodes'".into(),
+    })?;
     for k in map.keys() {
         if k.as_str() != Some("nodes") {
             return Err(ConfigError {
@@ -120,35 +126,53 @@ pub fn parse(text: &str, file: &str, kinds: &[NodeKind]) -> Result<Vec<NodeEntry
     let nodes = map
         .get("nodes")
         .and_then(|n| n.as_sequence())
-        .ok_or_else(|| ConfigError { location: format!("{file}: nodes"), message: "missing or not a list".into() })?;
+        .ok_or_else(|| ConfigError {
+            location: format!("{file}: nodes"),
+            message: "missing or not a list".into(),
+        })?;
     let mut out: Vec<NodeEntry> = Vec::new();
     for (i, n) in nodes.iter().enumerate() {
         let location = format!("{file}: nodes[{i}]");
-        let m = n
-            .as_mapping()
-            .ok_or_else(|| ConfigError { location: location.clone(), message: "expected a mapping".into() })?;
-        let kind_name = m.get("kind").and_then(|k| k.as_str()).ok_or_else(|| ConfigError {
-            location: format!("{location}.kind"),
-            message: "missing (one of axis_node, planar_node, pickplace_node)".into(),
+        let m = n.as_mapping().ok_or_else(|| ConfigError {
+            location: location.clone(),
+            message: "expected a mapping".into(),
         })?;
+        let kind_name = m
+            .get("kind")
+            .and_then(|k| k.as_str())
+            .ok_or_else(|| ConfigError {
+                location: format!("{location}.kind"),
+                message: "missing (one of axis_node, planar_node, pickplace_node)".into(),
+            })?;
         let Some(kind) = kinds.iter().find(|k| k.kind == kind_name) else {
             if SUITE_KINDS.contains(&kind_name) {
                 continue; // another binary's node
             }
             return Err(ConfigError {
                 location: format!("{location}.kind"),
-                message: format!("unknown node kind '{kind_name}' (one of: {})", SUITE_KINDS.join(", ")),
+                message: format!(
+                    "unknown node kind '{kind_name}' (one of: {})",
+                    SUITE_KINDS.join(", ")
+                ),
             });
         };
         let location = format!("{location} ({kind_name})");
         let (common, engine) = split_entry(m, kind.kind, &location)?;
-        if out.iter().any(|e| e.common.name == common.name && e.common.namespace == common.namespace) {
+        if out
+            .iter()
+            .any(|e| e.common.name == common.name && e.common.namespace == common.namespace)
+        {
             return Err(ConfigError {
                 location: format!("{location}.name"),
                 message: format!("node name '{}' is used twice", common.name),
             });
         }
-        out.push(NodeEntry { kind: kind.kind, location, common, engine });
+        out.push(NodeEntry {
+            kind: kind.kind,
+            location,
+            common,
+            engine,
+        });
     }
     Ok(out)
 }
@@ -171,7 +195,10 @@ fn parse_args(usage: &str) -> Result<Args, String> {
         match arg.as_str() {
             "--duration" => {
                 let v = it.next().ok_or("--duration needs seconds")?;
-                a.duration = Some(v.parse::<f64>().map_err(|_| format!("--duration: '{v}' is not a number"))?);
+                a.duration = Some(
+                    v.parse::<f64>()
+                        .map_err(|_| format!("--duration: '{v}' is not a number"))?,
+                );
             }
             "--check" => a.check = true,
             "-h" | "--help" => return Err(usage.to_string()),
@@ -208,7 +235,10 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
         }
     };
     if entries.is_empty() {
-        eprintln!("{program}: configuration error: {path}: no node of kind {} in 'nodes'", kind_list(kinds));
+        eprintln!(
+            "{program}: configuration error: {path}: no node of kind {} in 'nodes'",
+            kind_list(kinds)
+        );
         return 2;
     }
     let domain = match shell::domain_id_from_env() {
@@ -218,7 +248,11 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
             return 2;
         }
     };
-    let rt = match tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build() {
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+    {
         Ok(rt) => rt,
         Err(e) => {
             eprintln!("{program}: cannot start the async runtime: {e}");
@@ -228,7 +262,10 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
     rt.block_on(async move {
         let mut running = Vec::new();
         for e in &entries {
-            let kind = kinds.iter().find(|k| k.kind == e.kind).expect("checked by load");
+            let kind = kinds
+                .iter()
+                .find(|k| k.kind == e.kind)
+                .expect("checked by load");
             if args.check {
                 if let Err(err) = (kind.check)(e.engine.clone(), &e.location) {
                     eprintln!("{program}: configuration error: {err}");
@@ -240,7 +277,11 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
                 Ok(r) => running.push(r),
                 Err(err) => {
                     eprintln!("{program}: {err}");
-                    return if matches!(err, StartError::Config(_)) { 2 } else { 1 };
+                    return if matches!(err, StartError::Config(_)) {
+                        2
+                    } else {
+                        1
+                    };
                 }
             }
         }
@@ -248,7 +289,10 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
             println!("{path}: OK ({} nodes)", entries.len());
             return 0;
         }
-        tracing::info!("{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop", running.len());
+        tracing::info!(
+            "{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop",
+            running.len()
+        );
         wait_for_stop(args.duration).await;
         for r in running {
             r.stop().await;
@@ -292,31 +336,52 @@ mod tests {
 
     struct Nothing;
     impl Running for Nothing {
-        fn stop(self: Box<Self>) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>> {
+        fn stop(
+            self: Box<Self>,
+        ) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>> {
             Box::pin(async {})
         }
         fn as_any(&self) -> &dyn Any {
             self
         }
     }
-    fn dummy(_: &CommonConfig, _: serde_yaml::Value, _: &str, _: u16) -> Result<RunningNode, StartError> {
+    fn dummy(
+        _: &CommonConfig,
+        _: serde_yaml::Value,
+        _: &str,
+        _: u16,
+    ) -> Result<RunningNode, StartError> {
         Ok(Box::new(Nothing))
     }
     fn no_check(_: serde_yaml::Value, _: &str) -> Result<(), ConfigError> {
         Ok(())
     }
-    const KINDS: &[NodeKind] = &[NodeKind { kind: "axis_node", start: dummy, check: no_check }];
+    const KINDS: &[NodeKind] = &[NodeKind {
+        kind: "axis_node",
+        start: dummy,
+        check: no_check,
+    }];
 
     #[test]
     fn other_suite_kinds_are_skipped() {
-        let e = parse("nodes:\n  - kind: planar_node\n  - kind: axis_node\n", "f.yaml", KINDS).unwrap();
+        let e = parse(
+            "nodes:\n  - kind: planar_node\n  - kind: axis_node\n",
+            "f.yaml",
+            KINDS,
+        )
+        .unwrap();
         assert_eq!(e.len(), 1);
         assert_eq!(e[0].kind, "axis_node");
     }
 
     #[test]
     fn good_config_fills_defaults() {
-        let e = parse("nodes:\n  - kind: axis_node\n    axes: {}\n", "f.yaml", KINDS).unwrap();
+        let e = parse(
+            "nodes:\n  - kind: axis_node\n    axes: {}\n",
+            "f.yaml",
+            KINDS,
+        )
+        .unwrap();
         assert_eq!(e.len(), 1);
         assert_eq!(e[0].common.name, "axis_node");
         assert_eq!(e[0].common.cycle_period, 0.001);
@@ -327,20 +392,53 @@ mod tests {
     #[test]
     fn errors_name_file_key_and_problem() {
         let cases = [
-            ("nodes:\n  - kind: axis_nod\n", "f.yaml: nodes[0].kind", "unknown node kind 'axis_nod'"),
-            ("nodes:\n  - kind: axis_node\n    cycle_period: -1\n", "cycle_period", "outside"),
-            ("nodes:\n  - kind: axis_node\n    cycle_period: .nan\n", "cycle_period", "outside"),
-            ("nodes:\n  - kind: axis_node\n    state_rate: 0\n", "state_rate", "outside"),
-            ("nodes:\n  - kind: axis_node\n    service_mapping: zenoh\n", "service_mapping", "not one of"),
-            ("nodes:\n  - kind: axis_node\n    lockstep: maybe\n", "nodes[0] (axis_node)", "lockstep"),
-            ("nodes:\n  - kind: axis_node\n  - kind: axis_node\n", "name", "used twice"),
+            (
+                "nodes:\n  - kind: axis_nod\n",
+                "f.yaml: nodes[0].kind",
+                "unknown node kind 'axis_nod'",
+            ),
+            (
+                "nodes:\n  - kind: axis_node\n    cycle_period: -1\n",
+                "cycle_period",
+                "outside",
+            ),
+            (
+                "nodes:\n  - kind: axis_node\n    cycle_period: .nan\n",
+                "cycle_period",
+                "outside",
+            ),
+            (
+                "nodes:\n  - kind: axis_node\n    state_rate: 0\n",
+                "state_rate",
+                "outside",
+            ),
+            (
+                "nodes:\n  - kind: axis_node\n    service_mapping: zenoh\n",
+                "service_mapping",
+                "not one of",
+            ),
+            (
+                "nodes:\n  - kind: axis_node\n    lockstep: maybe\n",
+                "nodes[0] (axis_node)",
+                "lockstep",
+            ),
+            (
+                "nodes:\n  - kind: axis_node\n  - kind: axis_node\n",
+                "name",
+                "used twice",
+            ),
             ("node: []\n", "f.yaml: node", "unknown key"),
             ("nodes: [\n", "f.yaml", "line 2"),
         ];
         for (text, loc, msg) in cases {
-            let e = parse(text, "f.yaml", KINDS).err().unwrap_or_else(|| panic!("accepted: {text}"));
+            let e = parse(text, "f.yaml", KINDS)
+                .err()
+                .unwrap_or_else(|| panic!("accepted: {text}"));
             let s = e.to_string();
-            assert!(e.location.contains(loc) || s.contains(loc), "{text:?}: location {s}");
+            assert!(
+                e.location.contains(loc) || s.contains(loc),
+                "{text:?}: location {s}"
+            );
             assert!(s.contains(msg), "{text:?}: message {s}");
         }
     }

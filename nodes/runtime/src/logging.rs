@@ -12,7 +12,8 @@ use tracing_subscriber::{EnvFilter, Layer};
 
 /// Default filter: our crates at info; RustDDS's per-packet warnings ("No locators",
 /// "Message size") off: they fire many times a second on loopback.
-pub const DEFAULT_FILTER: &str = "info,rustdds=error,ros2_client=warn,ros2_client::distributions=error";
+pub const DEFAULT_FILTER: &str =
+    "info,rustdds=error,ros2_client=warn,ros2_client::distributions=error";
 
 type Routes = Mutex<Vec<(String, NodeLoggingHandle)>>;
 
@@ -23,7 +24,8 @@ fn routes() -> &'static Routes {
 
 /// Installs the subscriber once per process (`RUST_LOG` overrides the default filter).
 pub fn init() {
-    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new(DEFAULT_FILTER));
+    let filter =
+        EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new(DEFAULT_FILTER));
     let _ = tracing_subscriber::registry()
         .with(filter)
         .with(tracing_subscriber::fmt::layer().with_writer(std::io::stderr))
@@ -34,7 +36,10 @@ pub fn init() {
 /// Sends events whose target starts with `target_prefix` (a crate name such as `axis_node`)
 /// to that node's `/rosout`.
 pub fn route_to_rosout(target_prefix: &str, handle: NodeLoggingHandle) {
-    routes().lock().unwrap_or_else(|e| e.into_inner()).push((target_prefix.to_string(), handle));
+    routes()
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((target_prefix.to_string(), handle));
 }
 
 struct RosoutLayer;
@@ -59,8 +64,13 @@ impl<S: Subscriber> Layer<S> for RosoutLayer {
         if meta.target().starts_with("ros2_client") || meta.target().starts_with("rustdds") {
             return;
         }
-        let Ok(routes) = routes().try_lock() else { return };
-        let Some((_, handle)) = routes.iter().find(|(p, _)| meta.target().starts_with(p.as_str())) else {
+        let Ok(routes) = routes().try_lock() else {
+            return;
+        };
+        let Some((_, handle)) = routes
+            .iter()
+            .find(|(p, _)| meta.target().starts_with(p.as_str()))
+        else {
             return;
         };
         let mut v = MessageVisitor(String::new());

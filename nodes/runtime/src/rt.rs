@@ -8,10 +8,17 @@ pub fn prepare_cycle_thread() {
     #[cfg(target_os = "linux")]
     unsafe {
         libc::prctl(libc::PR_SET_TIMERSLACK, 1 as libc::c_ulong, 0, 0, 0);
-        if let Some(prio) = std::env::var("MOTION_RT_PRIORITY").ok().and_then(|p| p.parse::<i32>().ok()) {
-            let param = libc::sched_param { sched_priority: prio };
+        if let Some(prio) = std::env::var("MOTION_RT_PRIORITY")
+            .ok()
+            .and_then(|p| p.parse::<i32>().ok())
+        {
+            let param = libc::sched_param {
+                sched_priority: prio,
+            };
             if libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) != 0 {
-                tracing::warn!("SCHED_FIFO priority {prio} not permitted; running with normal scheduling");
+                tracing::warn!(
+                    "SCHED_FIFO priority {prio} not permitted; running with normal scheduling"
+                );
             }
         }
     }
@@ -42,7 +49,10 @@ pub fn sleep_until(deadline: Instant) {
         if deadline <= now {
             return;
         }
-        let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+        let mut ts = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
         unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
         let rem = deadline - now;
         let mut sec = ts.tv_sec + rem.as_secs() as libc::time_t;
@@ -51,10 +61,18 @@ pub fn sleep_until(deadline: Instant) {
             sec += 1;
             nsec -= 1_000_000_000;
         }
-        let target = libc::timespec { tv_sec: sec, tv_nsec: nsec };
+        let target = libc::timespec {
+            tv_sec: sec,
+            tv_nsec: nsec,
+        };
         loop {
             let r = unsafe {
-                libc::clock_nanosleep(libc::CLOCK_MONOTONIC, libc::TIMER_ABSTIME, &target, std::ptr::null_mut())
+                libc::clock_nanosleep(
+                    libc::CLOCK_MONOTONIC,
+                    libc::TIMER_ABSTIME,
+                    &target,
+                    std::ptr::null_mut(),
+                )
             };
             if r != libc::EINTR {
                 break;

@@ -73,7 +73,9 @@ pub fn domain_id_from_env() -> Result<u16, ShellError> {
         Ok(s) if s.trim().is_empty() => Ok(0),
         Ok(s) => match s.trim().parse::<u16>() {
             Ok(d) if d <= 232 => Ok(d),
-            _ => Err(ShellError(format!("ROS_DOMAIN_ID: '{s}' is not a domain id (0..232)"))),
+            _ => Err(ShellError(format!(
+                "ROS_DOMAIN_ID: '{s}' is not a domain id (0..232)"
+            ))),
         },
     }
 }
@@ -141,7 +143,10 @@ pub struct CommandRegistry {
 impl CommandRegistry {
     /// Remembers a command's label.
     pub fn insert(&self, id: CmdId, label: CommandLabel) {
-        self.labels.lock().unwrap_or_else(|e| e.into_inner()).insert(id, label);
+        self.labels
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(id, label);
     }
     fn label(&self, ev: &CommandEvent) -> CommandLabel {
         let mut m = self.labels.lock().unwrap_or_else(|e| e.into_inner());
@@ -152,6 +157,9 @@ impl CommandRegistry {
         }
     }
 }
+
+/// Screens a request into an engine command and its label (a rejection answers at once).
+pub type Decode<Req, C> = fn(Req) -> Result<(C, CommandLabel), Rejection>;
 
 /// A node's ROS side: the node, the controller handle, and the tasks serving it.
 pub struct NodeShell<E: Engine> {
@@ -169,7 +177,10 @@ pub struct NodeShell<E: Engine> {
 
 /// The answer of a command service (README "ROS API rules"): accepted with the command id, or
 /// rejected with the error id and message; `id` reads the command id from the engine's reply.
-pub fn respond<R: motion_msgs::CommandResponse, T>(o: &Result<T, Rejection>, id: impl Fn(&T) -> CmdId) -> R {
+pub fn respond<R: motion_msgs::CommandResponse, T>(
+    o: &Result<T, Rejection>,
+    id: impl Fn(&T) -> CmdId,
+) -> R {
     let mut r = R::default();
     match o {
         Ok(reply) => r.answer(true, id(reply).0, 0, String::new()),
@@ -181,13 +192,19 @@ pub fn respond<R: motion_msgs::CommandResponse, T>(o: &Result<T, Rejection>, id:
 /// Current ROS time of the node as a message stamp.
 pub fn stamp_of(node: &Node) -> Time {
     let nanos = node.time_now().to_nanos();
-    Time { sec: nanos.div_euclid(1_000_000_000) as i32, nanosec: nanos.rem_euclid(1_000_000_000) as u32 }
+    Time {
+        sec: nanos.div_euclid(1_000_000_000) as i32,
+        nanosec: nanos.rem_euclid(1_000_000_000) as u32,
+    }
 }
 
 /// A stamp from simulated seconds.
 pub fn stamp_from_secs(t: f64) -> Time {
     let nanos = (t * 1e9).round() as i64;
-    Time { sec: nanos.div_euclid(1_000_000_000) as i32, nanosec: nanos.rem_euclid(1_000_000_000) as u32 }
+    Time {
+        sec: nanos.div_euclid(1_000_000_000) as i32,
+        nanosec: nanos.rem_euclid(1_000_000_000) as u32,
+    }
 }
 
 /// The absolute ROS name of a private (`~/rel`) name of this node.
@@ -255,8 +272,11 @@ where
         handle: ControllerHandle<E>,
         parameters: Vec<(String, ParameterValue)>,
     ) -> Result<Self, ShellError> {
-        let mut opts = NodeOptions::new().enable_rosout(true).start_parameter_services(true);
-        let read_only: Arc<Vec<String>> = Arc::new(parameters.iter().map(|(n, _)| n.clone()).collect());
+        let mut opts = NodeOptions::new()
+            .enable_rosout(true)
+            .start_parameter_services(true);
+        let read_only: Arc<Vec<String>> =
+            Arc::new(parameters.iter().map(|(n, _)| n.clone()).collect());
         for (n, v) in parameters {
             opts = opts.declare_parameter(&n, v);
         }
@@ -265,21 +285,37 @@ where
         let running = Arc::new(std::sync::atomic::AtomicBool::new(false));
         let is_running = running.clone();
         opts = opts.parameter_validator(Box::new(move |name: &str, _v: &ParameterValue| {
-            if is_running.load(std::sync::atomic::Ordering::SeqCst) && ro.iter().any(|n| n == name) {
-                Err(format!("parameter '{name}' is read-only at run time (set it in the launch config)"))
+            if is_running.load(std::sync::atomic::Ordering::SeqCst) && ro.iter().any(|n| n == name)
+            {
+                Err(format!(
+                    "parameter '{name}' is read-only at run time (set it in the launch config)"
+                ))
             } else {
                 Ok(())
             }
         }));
-        let name = NodeName::new(&settings.namespace, &settings.node_name).map_err(err("node name"))?;
-        let node = context.new_node(name, opts).map_err(err("creating the node"))?;
+        let name =
+            NodeName::new(&settings.namespace, &settings.node_name).map_err(err("node name"))?;
+        let node = context
+            .new_node(name, opts)
+            .map_err(err("creating the node"))?;
         running.store(true, std::sync::atomic::Ordering::SeqCst);
-        Ok(NodeShell { node, handle, settings, registry: Arc::new(CommandRegistry::default()), tasks: TaskSet::default(), spinner: None })
+        Ok(NodeShell {
+            node,
+            handle,
+            settings,
+            registry: Arc::new(CommandRegistry::default()),
+            tasks: TaskSet::default(),
+            spinner: None,
+        })
     }
 
     /// Starts the spinner and the tasks every node has: `~/command_status`, `/diagnostics`
     /// (1 Hz), and in lockstep mode `/clock` and `~/step`.
-    pub fn start_common(&mut self, events: UnboundedReceiver<CommandEvent>) -> Result<(), ShellError> {
+    pub fn start_common(
+        &mut self,
+        events: UnboundedReceiver<CommandEvent>,
+    ) -> Result<(), ShellError> {
         let spinner = self.node.spinner().map_err(err("spinner"))?;
         self.spinner = Some(tokio::spawn(async move {
             if let Err(e) = spinner.spin().await {
@@ -295,7 +331,10 @@ where
         Ok(())
     }
 
-    fn spawn_command_status(&mut self, mut events: UnboundedReceiver<CommandEvent>) -> Result<(), ShellError> {
+    fn spawn_command_status(
+        &mut self,
+        mut events: UnboundedReceiver<CommandEvent>,
+    ) -> Result<(), ShellError> {
         let topic = self
             .node
             .create_topic(
@@ -304,7 +343,10 @@ where
                 &topic_qos(),
             )
             .map_err(err("topic"))?;
-        let publisher = self.node.create_publisher::<CommandStatus>(&topic, None).map_err(err("publisher"))?;
+        let publisher = self
+            .node
+            .create_publisher::<CommandStatus>(&topic, None)
+            .map_err(err("publisher"))?;
         let registry = self.registry.clone();
         let handle = self.handle.clone();
         self.tasks.spawn(async move {
@@ -322,7 +364,11 @@ where
                     command_aborted: o.command_aborted,
                     error: o.error,
                     error_id: o.error_id.0,
-                    message: if o.error { E::error_text(o.error_id) } else { String::new() },
+                    message: if o.error {
+                        E::error_text(o.error_id)
+                    } else {
+                        String::new()
+                    },
                 };
                 if let Err(e) = publisher.async_publish(msg).await {
                     tracing::warn!("command_status publish failed: {e:?}");
@@ -335,9 +381,16 @@ where
     fn spawn_diagnostics(&mut self) -> Result<(), ShellError> {
         let topic = self
             .node
-            .create_topic(&absolute_name("/diagnostics")?, DiagnosticArray::type_name(), &topic_qos())
+            .create_topic(
+                &absolute_name("/diagnostics")?,
+                DiagnosticArray::type_name(),
+                &topic_qos(),
+            )
             .map_err(err("topic"))?;
-        let publisher = self.node.create_publisher::<DiagnosticArray>(&topic, None).map_err(err("publisher"))?;
+        let publisher = self
+            .node
+            .create_publisher::<DiagnosticArray>(&topic, None)
+            .map_err(err("publisher"))?;
         let handle = self.handle.clone();
         let node_name = self.settings.node_name.clone();
         self.tasks.spawn(async move {
@@ -359,12 +412,19 @@ where
             .node
             .create_topic(&absolute_name("/clock")?, Clock::type_name(), &topic_qos())
             .map_err(err("topic"))?;
-        let publisher = self.node.create_publisher::<Clock>(&topic, None).map_err(err("publisher"))?;
+        let publisher = self
+            .node
+            .create_publisher::<Clock>(&topic, None)
+            .map_err(err("publisher"))?;
         let mut snaps = self.handle.snapshots();
         self.tasks.spawn(async move {
             while snaps.changed().await.is_ok() {
                 let t = snaps.borrow_and_update().sim_time;
-                let _ = publisher.async_publish(Clock { clock: stamp_from_secs(t) }).await;
+                let _ = publisher
+                    .async_publish(Clock {
+                        clock: stamp_from_secs(t),
+                    })
+                    .await;
             }
         });
         Ok(())
@@ -455,7 +515,7 @@ where
         &mut self,
         name: &str,
         type_name: ServiceTypeName,
-        decode: fn(Req) -> Result<(E::Command, CommandLabel), Rejection>,
+        decode: Decode<Req, E::Command>,
         respond: fn(Result<E::Reply, Rejection>) -> Resp,
     ) -> Result<(), ShellError>
     where
@@ -487,7 +547,11 @@ where
     }
 
     /// Serves a motion command as an action (see the module doc for the mapping).
-    pub fn action<B: ActionBinding<E>>(&mut self, name: &str, binding: B) -> Result<(), ShellError> {
+    pub fn action<B: ActionBinding<E>>(
+        &mut self,
+        name: &str,
+        binding: B,
+    ) -> Result<(), ShellError> {
         let server = self
             .node
             .create_action_server::<B::Goal, B::Result, B::Feedback>(
@@ -525,22 +589,34 @@ where
                     };
                     let targets: Vec<(ros2_client::action::GoalId, CmdId)> = {
                         let g = goals.lock().unwrap_or_else(|e| e.into_inner());
-                        cancel.goals().filter_map(|gid| g.get(&gid).map(|c| (gid, *c))).collect()
+                        cancel
+                            .goals()
+                            .filter_map(|gid| g.get(&gid).map(|c| (gid, *c)))
+                            .collect()
                     };
                     let mut accepted = Vec::new();
                     for (gid, cid) in targets {
                         // Marked before the engine aborts the command: the goal task may see
                         // the Aborted event before this task sees the cancel's reply.
-                        canceled.lock().unwrap_or_else(|e| e.into_inner()).insert(gid);
+                        canceled
+                            .lock()
+                            .unwrap_or_else(|e| e.into_inner())
+                            .insert(gid);
                         match handle.cancel(cid).await {
                             Ok(()) => accepted.push(gid),
                             Err(r) => {
-                                canceled.lock().unwrap_or_else(|e| e.into_inner()).remove(&gid);
+                                canceled
+                                    .lock()
+                                    .unwrap_or_else(|e| e.into_inner())
+                                    .remove(&gid);
                                 tracing::warn!("{aname}: cancel of command {} refused: {r}", cid.0)
                             }
                         }
                     }
-                    if let Err(e) = server.respond_to_cancel_requests(&cancel, accepted.into_iter()).await {
+                    if let Err(e) = server
+                        .respond_to_cancel_requests(&cancel, accepted.into_iter())
+                        .await
+                    {
                         tracing::warn!("{aname}: cancel response failed: {e:?}");
                     }
                 }
@@ -560,7 +636,9 @@ where
                         continue;
                     }
                 };
-                let Some(goal) = server.get_new_goal(new_goal.clone()) else { continue };
+                let Some(goal) = server.get_new_goal(new_goal.clone()) else {
+                    continue;
+                };
                 let server = server.clone();
                 let binding = binding.clone();
                 let handle = handle.clone();
@@ -585,10 +663,23 @@ where
                             return;
                         }
                     };
-                    let (status, result) =
-                        run_goal(&*binding, &goal, goal_id, &handle, &registry, &goals, &canceled, &server, executing.clone(), feedback_period)
-                            .await;
-                    goals.lock().unwrap_or_else(|e| e.into_inner()).remove(&goal_id);
+                    let (status, result) = run_goal(
+                        &*binding,
+                        &goal,
+                        goal_id,
+                        &handle,
+                        &registry,
+                        &goals,
+                        &canceled,
+                        &server,
+                        executing.clone(),
+                        feedback_period,
+                    )
+                    .await;
+                    goals
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .remove(&goal_id);
                     let _guard = result_lock.lock().await;
                     match tokio::time::timeout(
                         Duration::from_secs(60),
@@ -598,7 +689,9 @@ where
                     {
                         Ok(Ok(())) => {}
                         Ok(Err(e)) => tracing::warn!("{aname}: sending the result failed: {e:?}"),
-                        Err(_) => tracing::warn!("{aname}: no client asked for the result within 60 s"),
+                        Err(_) => {
+                            tracing::warn!("{aname}: no client asked for the result within 60 s")
+                        }
                     }
                 });
             }
@@ -619,8 +712,14 @@ where
         F: Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
     {
         let name = resolve_name(&self.settings, topic)?;
-        let t = self.node.create_topic(&name, type_name, &topic_qos()).map_err(err("topic"))?;
-        let publisher = self.node.create_publisher::<M>(&t, None).map_err(err("publisher"))?;
+        let t = self
+            .node
+            .create_topic(&name, type_name, &topic_qos())
+            .map_err(err("topic"))?;
+        let publisher = self
+            .node
+            .create_publisher::<M>(&t, None)
+            .map_err(err("publisher"))?;
         let handle = self.handle.clone();
         let period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(0.1));
         self.tasks.spawn(async move {
@@ -714,7 +813,12 @@ pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
     /// Screens the goal and builds the command (the Execute edge) and its label.
     fn command(&self, goal: &Self::Goal) -> Result<(E::Command, CommandLabel), Rejection>;
     /// Feedback from the latest snapshot while the command is busy.
-    fn feedback(&self, goal: &Self::Goal, snap: &Stamped<E::Snapshot>, state: CommandState) -> Self::Feedback;
+    fn feedback(
+        &self,
+        goal: &Self::Goal,
+        snap: &Stamped<E::Snapshot>,
+        state: CommandState,
+    ) -> Self::Feedback;
     /// The result: `end` is the final state; `rejection` is set when the command was refused.
     fn result(
         &self,
@@ -751,7 +855,10 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
 ) -> (GoalEndStatus, B::Result) {
     let refused = |r: Rejection| {
         let end = CommandState::Error(r.error_id);
-        (GoalEndStatus::Aborted, binding.result(goal, &handle.snapshot(), end, Some(&r)))
+        (
+            GoalEndStatus::Aborted,
+            binding.result(goal, &handle.snapshot(), end, Some(&r)),
+        )
     };
     let (cmd, label) = match binding.command(goal) {
         Ok(c) => c,
@@ -763,10 +870,16 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
     };
     let Some(id) = E::reply_id(&reply) else {
         // An instantaneous command: done at its edge.
-        return (GoalEndStatus::Succeeded, binding.result(goal, &handle.snapshot(), CommandState::Done, None));
+        return (
+            GoalEndStatus::Succeeded,
+            binding.result(goal, &handle.snapshot(), CommandState::Done, None),
+        );
     };
     registry.insert(id, label);
-    goals.lock().unwrap_or_else(|e| e.into_inner()).insert(goal_id, id);
+    goals
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(goal_id, id);
     let mut state = CommandState::Busy;
     let mut tick = tokio::time::interval(feedback_period);
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
@@ -801,7 +914,12 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
     let result = binding.result(goal, &handle.snapshot(), end, None);
     let status = match end {
         CommandState::Done => GoalEndStatus::Succeeded,
-        CommandState::Aborted if canceled.lock().unwrap_or_else(|e| e.into_inner()).remove(&goal_id) => {
+        CommandState::Aborted
+            if canceled
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .remove(&goal_id) =>
+        {
             GoalEndStatus::Canceled
         }
         _ => GoalEndStatus::Aborted,
@@ -812,15 +930,25 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
 /// `/diagnostics` message of a node's cycle statistics.
 pub fn diagnostics_message(node: &str, s: &CycleStats, stamp: Time) -> DiagnosticArray {
     let us = |v: f64| format!("{:.1}", v * 1e6);
-    let level = if s.overruns > 0 { DiagnosticStatus::WARN } else { DiagnosticStatus::OK };
+    let level = if s.overruns > 0 {
+        DiagnosticStatus::WARN
+    } else {
+        DiagnosticStatus::OK
+    };
     let message = if s.overruns > 0 {
         format!("{} overruns in {} cycles", s.overruns, s.cycles)
     } else {
         "cycle on time".to_string()
     };
-    let kv = |k: &str, v: String| KeyValue { key: k.to_string(), value: v };
+    let kv = |k: &str, v: String| KeyValue {
+        key: k.to_string(),
+        value: v,
+    };
     DiagnosticArray {
-        header: Header { stamp, frame_id: String::new() },
+        header: Header {
+            stamp,
+            frame_id: String::new(),
+        },
         status: vec![DiagnosticStatus {
             level,
             name: format!("{node}: cycle"),
@@ -844,6 +972,11 @@ pub fn diagnostics_message(node: &str, s: &CycleStats, stamp: Time) -> Diagnosti
 }
 
 fn stamp_from_wall() -> Time {
-    let d = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
-    Time { sec: d.as_secs() as i32, nanosec: d.subsec_nanos() }
+    let d = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    Time {
+        sec: d.as_secs() as i32,
+        nanosec: d.subsec_nanos(),
+    }
 }

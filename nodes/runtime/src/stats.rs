@@ -59,7 +59,12 @@ pub struct Histogram {
 
 impl Default for Histogram {
     fn default() -> Self {
-        Histogram { counts: Box::new([0; BUCKETS]), n: 0, sum: 0.0, max: 0.0 }
+        Histogram {
+            counts: Box::new([0; BUCKETS]),
+            n: 0,
+            sum: 0.0,
+            max: 0.0,
+        }
     }
 }
 
@@ -149,7 +154,7 @@ impl StatsRecorder {
 
     /// True when the shared copy should be refreshed after `cycle`.
     pub fn due_for_publish(&self, cycle: u64) -> bool {
-        cycle % self.publish_every == 0
+        cycle.is_multiple_of(self.publish_every)
     }
 
     /// Writes the summary into the shared statistics.
@@ -177,8 +182,16 @@ mod tests {
             h.add(i as f64 * 1e-6 + 0.5e-6);
         }
         assert_eq!(h.len(), 1000);
-        assert!((h.quantile(0.5) - 500e-6).abs() < 1.5e-6, "{}", h.quantile(0.5));
-        assert!((h.quantile(0.99) - 990e-6).abs() < 1.5e-6, "{}", h.quantile(0.99));
+        assert!(
+            (h.quantile(0.5) - 500e-6).abs() < 1.5e-6,
+            "{}",
+            h.quantile(0.5)
+        );
+        assert!(
+            (h.quantile(0.99) - 990e-6).abs() < 1.5e-6,
+            "{}",
+            h.quantile(0.99)
+        );
         assert!((h.max() - 999.5e-6).abs() < 1e-12);
         assert!((h.mean() - 500e-6).abs() < 1e-9);
     }

@@ -49,12 +49,18 @@ impl Engine for Counter {
         }
         if let Some((id, n)) = self.job.as_mut() {
             if !self.started {
-                events.push(CommandEvent { id: *id, state: CommandState::Active });
+                events.push(CommandEvent {
+                    id: *id,
+                    state: CommandState::Active,
+                });
                 self.started = true;
             }
             *n = n.saturating_sub(1);
             if *n == 0 {
-                events.push(CommandEvent { id: *id, state: CommandState::Done });
+                events.push(CommandEvent {
+                    id: *id,
+                    state: CommandState::Done,
+                });
                 self.job = None;
             }
         }
@@ -66,7 +72,14 @@ impl Engine for Counter {
 }
 
 fn counter() -> Counter {
-    Counter { next_id: 0, pos: 0.0, vel: 0.0, dts: Vec::new(), job: None, started: false }
+    Counter {
+        next_id: 0,
+        pos: 0.0,
+        vel: 0.0,
+        dts: Vec::new(),
+        job: None,
+        started: false,
+    }
 }
 
 fn lockstep(period: f64, queue: usize) -> CycleConfig {
@@ -81,7 +94,10 @@ fn lockstep(period: f64, queue: usize) -> CycleConfig {
 }
 
 fn rt() -> tokio::runtime::Runtime {
-    tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap()
+    tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap()
 }
 
 #[test]
@@ -109,7 +125,7 @@ fn lockstep_is_deterministic() {
             let (ctl, _e) = Controller::spawn(counter(), lockstep(0.001, 8), |r| *r).unwrap();
             let h = ctl.handle();
             for k in 0..20 {
-                let _ = h.submit(Cmd::SetVel(k as f64 * 0.37), None).unwrap();
+                drop(h.submit(Cmd::SetVel(k as f64 * 0.37), None).unwrap());
                 h.step(7).await.unwrap();
             }
             h.snapshot().state.0.to_bits()
@@ -170,8 +186,20 @@ fn events_reach_the_watcher_and_the_status_stream() {
         let ((reply, mut events), ()) = tokio::join!(async { fut.await.unwrap() }, stepper);
         let id = reply.unwrap();
         h.step(10).await.unwrap();
-        assert_eq!(events.recv().await.unwrap(), CommandEvent { id, state: CommandState::Active });
-        assert_eq!(events.recv().await.unwrap(), CommandEvent { id, state: CommandState::Done });
+        assert_eq!(
+            events.recv().await.unwrap(),
+            CommandEvent {
+                id,
+                state: CommandState::Active
+            }
+        );
+        assert_eq!(
+            events.recv().await.unwrap(),
+            CommandEvent {
+                id,
+                state: CommandState::Done
+            }
+        );
         // The watcher is dropped after the final event.
         assert!(events.recv().await.is_none());
         assert_eq!(all.recv().await.unwrap().state, CommandState::Active);
@@ -200,7 +228,10 @@ fn realtime_keeps_the_schedule_without_drift() {
     // snapshot lag and thread start), never fewer because of sleep overshoot.
     let expected = wall / 0.001;
     let got = (c1 - c0) as f64;
-    assert!((got - expected).abs() < 15.0, "cycles {got} vs wall {expected}");
+    assert!(
+        (got - expected).abs() < 15.0,
+        "cycles {got} vs wall {expected}"
+    );
     let engine = ctl.shutdown().unwrap();
     assert!(engine.dts.iter().all(|dt| *dt == 0.001));
     assert!(h.step(1).now_or_never_is_rejected());

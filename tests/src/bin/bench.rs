@@ -46,7 +46,9 @@ impl Engine for Trivial {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let smoke = args.iter().any(|a| a == "--smoke");
-    let all = !args.iter().any(|a| ["runtime", "roundtrip", "axis", "ruckig"].contains(&a.as_str()));
+    let all = !args
+        .iter()
+        .any(|a| ["runtime", "roundtrip", "axis", "ruckig"].contains(&a.as_str()));
     if all || args.iter().any(|a| a == "runtime") {
         let secs = if smoke { 2.0 } else { 60.0 };
         bare_sleep_reference(secs);
@@ -61,7 +63,10 @@ fn main() {
         roundtrip(if smoke { 200 } else { 2000 });
     }
     if all || args.iter().any(|a| a == "axis") {
-        axis_step_cost(if smoke { &[1, 100] } else { &[1, 100, 1000] }, if smoke { 200 } else { 2000 });
+        axis_step_cost(
+            if smoke { &[1, 100] } else { &[1, 100, 1000] },
+            if smoke { 200 } else { 2000 },
+        );
     }
     if all || args.iter().any(|a| a == "ruckig") {
         ruckig_ratio(if smoke { 100 } else { 1000 });
@@ -69,8 +74,10 @@ fn main() {
 }
 
 fn axis_config() -> axis_engine::AxisConfig {
-    serde_json::from_str(r#"{"max_velocity":1000.0,"acceleration":5000.0,"deceleration":5000.0,"jerk":50000.0}"#)
-        .expect("axis config")
+    serde_json::from_str(
+        r#"{"max_velocity":1000.0,"acceleration":5000.0,"deceleration":5000.0,"jerk":50000.0}"#,
+    )
+    .expect("axis config")
 }
 
 /// Engine step cost per moving axis: every axis runs a long move for the whole measurement.
@@ -93,7 +100,13 @@ fn axis_step_cost(counts: &[usize], steps: u64) {
         }
         let mut tick = 0;
         for _ in 0..5 {
-            e.step(Tick { index: tick, dt: 0.001 }, &mut ev);
+            e.step(
+                Tick {
+                    index: tick,
+                    dt: 0.001,
+                },
+                &mut ev,
+            );
             tick += 1;
         }
         for i in 0..n {
@@ -112,14 +125,25 @@ fn axis_step_cost(counts: &[usize], steps: u64) {
         ev.clear();
         let t0 = Instant::now();
         for _ in 0..steps {
-            e.step(Tick { index: tick, dt: 0.001 }, &mut ev);
+            e.step(
+                Tick {
+                    index: tick,
+                    dt: 0.001,
+                },
+                &mut ev,
+            );
             ev.clear();
             tick += 1;
         }
         let per = t0.elapsed().as_secs_f64() / (steps as f64 * n as f64);
         let moving = e.snapshot().axes.iter().filter(|a| a.has_job).count();
         // Floor: evaluating one planned profile per axis and step.
-        let limits = motion_core::trajectory::Limits { velocity: 1000.0, acceleration: 5000.0, deceleration: 5000.0, jerk: 50000.0 };
+        let limits = motion_core::trajectory::Limits {
+            velocity: 1000.0,
+            acceleration: 5000.0,
+            deceleration: 5000.0,
+            jerk: 50000.0,
+        };
         let profile = motion_core::trajectory::Profile1::to_position(
             motion_core::trajectory::State1::at_rest(0.0),
             1.0e6,
@@ -150,7 +174,10 @@ fn ruckig_ratio(count: usize) {
     use motion_core::trajectory::{Limits, Profile1, State1};
     use rand::{Rng, SeedableRng};
     let mut rng = rand::rngs::SmallRng::seed_from_u64(
-        std::env::var("BENCH_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(42),
+        std::env::var("BENCH_SEED")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(42),
     );
     let mut moves = Vec::with_capacity(count);
     let mut lines = String::new();
@@ -179,11 +206,24 @@ fn ruckig_ratio(count: usize) {
         .expect("python3 with the ruckig package (scripts/setup.sh installs it)");
     {
         use std::io::Write;
-        child.stdin.take().expect("stdin").write_all(lines.as_bytes()).expect("write");
+        child
+            .stdin
+            .take()
+            .expect("stdin")
+            .write_all(lines.as_bytes())
+            .expect("write");
     }
     let out = child.wait_with_output().expect("oracle");
-    let oracle: Vec<f64> = String::from_utf8_lossy(&out.stdout).lines().map(|l| l.trim().parse().unwrap_or(f64::NAN)).collect();
-    assert_eq!(oracle.len(), count, "oracle answered {} of {count}", oracle.len());
+    let oracle: Vec<f64> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| l.trim().parse().unwrap_or(f64::NAN))
+        .collect();
+    assert_eq!(
+        oracle.len(),
+        count,
+        "oracle answered {} of {count}",
+        oracle.len()
+    );
     let (mut max_ratio, mut sum, mut n, mut violations, mut failures) = (0.0f64, 0.0, 0, 0, 0);
     let tol = 1e-6;
     for ((p0, p1, l), t_ref) in moves.iter().zip(&oracle) {
@@ -207,7 +247,11 @@ fn ruckig_ratio(count: usize) {
         while t <= p.duration() {
             let s = p.at(t);
             let accelerating = s.acc * s.vel > 0.0;
-            let a_lim = if accelerating { l.acceleration } else { l.deceleration.max(l.acceleration) };
+            let a_lim = if accelerating {
+                l.acceleration
+            } else {
+                l.deceleration.max(l.acceleration)
+            };
             if s.vel.abs() > l.velocity * (1.0 + tol) || s.acc.abs() > a_lim * (1.0 + tol) {
                 bad = true;
             }
@@ -240,7 +284,11 @@ fn bare_sleep_reference(seconds: f64) {
     let mut deadline = Instant::now() + period;
     for _ in 0..n {
         motion_runtime::rt::sleep_until(deadline);
-        late.push(Instant::now().saturating_duration_since(deadline).as_secs_f64());
+        late.push(
+            Instant::now()
+                .saturating_duration_since(deadline)
+                .as_secs_f64(),
+        );
         deadline += period;
     }
     let over = late.iter().filter(|l| **l > 1e-3).count();
@@ -263,7 +311,8 @@ fn runtime_jitter(seconds: f64, spin: f64) {
         snapshot_every: 10,
         spin,
     };
-    let (ctl, _events) = Controller::spawn(Trivial { x: 0.0, next: 0 }, cfg, |r| Some(*r)).expect("controller");
+    let (ctl, _events) =
+        Controller::spawn(Trivial { x: 0.0, next: 0 }, cfg, |r| Some(*r)).expect("controller");
     std::thread::sleep(Duration::from_secs_f64(seconds));
     let h = ctl.handle();
     drop(ctl);
@@ -283,7 +332,11 @@ fn runtime_jitter(seconds: f64, spin: f64) {
     );
     println!(
         "runtime targets: jitter p99 <= 50 us: {}; overruns = 0: {}",
-        if s.jitter_p99 <= 50e-6 { "met" } else { "NOT met" },
+        if s.jitter_p99 <= 50e-6 {
+            "met"
+        } else {
+            "NOT met"
+        },
         if s.overruns == 0 { "met" } else { "NOT met" }
     );
 }
@@ -294,7 +347,11 @@ fn percentile(v: &mut [f64], q: f64) -> f64 {
 }
 
 fn roundtrip(n: usize) {
-    let rt = tokio::runtime::Builder::new_multi_thread().worker_threads(2).enable_all().build().expect("rt");
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("rt");
     rt.block_on(async move {
         let domain = 150;
         let mapping = ServiceMapping::Enhanced;
@@ -332,23 +389,12 @@ fn roundtrip(n: usize) {
             }
         });
         let mut c = ClientNode::new(domain, "bench_client", mapping);
-        let mut measure = |name: &'static str| {
-            let cl = c
-                .node
-                .create_client::<ResetRequest, ResetResponse>(
-                    mapping,
-                    &ClientNode::name(name),
-                    &Reset::service_type_name(),
-                    motion_runtime::shell::service_qos(),
-                    motion_runtime::shell::service_qos(),
-                )
-                .expect("client");
-            cl
-        };
-        let node_client = measure("/bench_node/reset");
-        let bare_client = measure("/bare_echo/reset");
-        system_tests::within(20.0, "node service", node_client.wait_for_service(&c.node)).await;
-        system_tests::within(20.0, "bare service", bare_client.wait_for_service(&c.node)).await;
+        let node_client = c
+            .client::<ResetRequest, ResetResponse>("/bench_node/reset", Reset::service_type_name())
+            .await;
+        let bare_client = c
+            .client::<ResetRequest, ResetResponse>("/bare_echo/reset", Reset::service_type_name())
+            .await;
         let mut t_node = Vec::with_capacity(n);
         let mut t_bare = Vec::with_capacity(n);
         // Interleaved, so both see the same machine load.
