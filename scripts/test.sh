@@ -10,4 +10,13 @@ cargo build --workspace --all-targets --quiet
 echo "== benchmark smoke runs"
 scripts/netns-run cargo run --quiet -p system_tests --bin bench -- --smoke
 echo "== tests"
-exec scripts/netns-run cargo test --workspace --no-fail-fast "$@"
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+set +e
+scripts/netns-run cargo test --workspace --no-fail-fast "$@" 2>&1 | tee "$log"
+rc=${PIPESTATUS[0]}
+set -e
+# One closing line over all test binaries (cargo's last line is often an empty doc-test run).
+awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($(i+1) ~ /^passed/) p += $i; if ($(i+1) ~ /^failed/) f += $i; if ($(i+1) ~ /^ignored/) s += $i } }
+     END { printf "tests: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"
+exit "$rc"

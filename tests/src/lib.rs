@@ -231,3 +231,29 @@ pub fn action_client_qos() -> ActionClientQosPolicies {
         status_subscription: status,
     }
 }
+
+/// Sends an action goal, retrying up to 3 times 10 s apart: a reply can be lost while DDS is
+/// still matching the reply reader of a node with many endpoints (notes/dds.md); a retried goal
+/// is a fresh Execute edge with the same inputs.
+pub async fn send_goal<G, R, F>(
+    ac: &ActionClient<G, R, F>,
+    what: &str,
+    goal: G,
+) -> (
+    ros2_client::action::GoalId,
+    ros2_client::action::SendGoalResponse,
+)
+where
+    G: Message + Clone + 'static,
+    R: Message + Clone + 'static,
+    F: Message + 'static,
+{
+    for _ in 0..3 {
+        if let Ok(Ok(r)) =
+            tokio::time::timeout(Duration::from_secs(10), ac.async_send_goal(goal.clone())).await
+        {
+            return r;
+        }
+    }
+    panic!("{what}: no answer to 3 goal requests");
+}

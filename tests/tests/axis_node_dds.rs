@@ -15,7 +15,7 @@ use motion_msgs::srv::{
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
-use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
+use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
 
 const CONFIG: &str = "axes:\n  x:\n    max_velocity: 1000.0\n    acceleration: 10000.0\n    deceleration: 10000.0\n    jerk: 100000.0\n";
 
@@ -104,9 +104,7 @@ async fn scenario(mapping: ServiceMapping) {
         velocity: 500.0,
         ..Default::default()
     };
-    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, resp) = send_goal(&ac, "send goal", goal).await;
     assert!(resp.accepted);
     let (status, result) = within(20.0, "move result", ac.async_request_result(gid))
         .await
@@ -133,9 +131,7 @@ async fn scenario(mapping: ServiceMapping) {
         velocity: 10.0,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&ac, "send bad goal", goal).await;
     let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid))
         .await
         .unwrap();
@@ -158,9 +154,7 @@ async fn scenario(mapping: ServiceMapping) {
         direction: 1,
         ..Default::default()
     };
-    let (gid, resp) = within(10.0, "send velocity goal", vc.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, resp) = send_goal(&vc, "send velocity goal", goal).await;
     assert!(resp.accepted);
     tokio::time::sleep(std::time::Duration::from_millis(200)).await;
     let cr = within(

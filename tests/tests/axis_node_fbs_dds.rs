@@ -9,7 +9,7 @@ use motion_msgs::srv::{self, *};
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, Message, ServiceMapping};
 use std::time::Duration;
-use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
+use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
 
 const CONFIG: &str = "axes:
   x:
@@ -259,9 +259,7 @@ async fn scenario(mapping: ServiceMapping) {
         use_default_position: false,
         ..Default::default()
     };
-    let (gid, resp) = within(10.0, "home goal", home.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, resp) = send_goal(&home, "home goal", goal).await;
     assert!(resp.accepted);
     // State Homing while the run is on (T12; the goal is accepted before the engine takes the
     // edge, so wait for it).
@@ -291,9 +289,7 @@ async fn scenario(mapping: ServiceMapping) {
         homing_mode: 9,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "bad home goal", home.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&home, "bad home goal", goal).await;
     let (st, res) = within(20.0, "bad home result", home.async_request_result(gid))
         .await
         .unwrap();
@@ -362,9 +358,7 @@ async fn scenario(mapping: ServiceMapping) {
         direction: 1,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "velocity goal", mvel.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&mvel, "velocity goal", goal).await;
     let (st, res) = within(20.0, "velocity result", mvel.async_request_result(gid))
         .await
         .unwrap();
@@ -397,16 +391,15 @@ async fn scenario(mapping: ServiceMapping) {
             &action::Halt::action_type_name(),
         )
         .await;
-    let (gid, _) = within(
-        10.0,
+    let (gid, _) = send_goal(
+        &halt,
         "halt goal",
-        halt.async_send_goal(action::HaltGoal {
+        action::HaltGoal {
             axis: "x".into(),
             ..Default::default()
-        }),
+        },
     )
-    .await
-    .unwrap();
+    .await;
     let (st, res) = within(20.0, "halt result", halt.async_request_result(gid))
         .await
         .unwrap();
@@ -433,9 +426,7 @@ async fn scenario(mapping: ServiceMapping) {
         end_velocity: 50.0,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "continuous goal", cont.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&cont, "continuous goal", goal).await;
     let (st, res) = within(20.0, "continuous result", cont.async_request_result(gid))
         .await
         .unwrap();
@@ -453,16 +444,15 @@ async fn scenario(mapping: ServiceMapping) {
         "EndVelocity: {}",
         s.status.set_velo
     );
-    let (gid, _) = within(
-        10.0,
+    let (gid, _) = send_goal(
+        &halt,
         "halt goal",
-        halt.async_send_goal(action::HaltGoal {
+        action::HaltGoal {
             axis: "x".into(),
             ..Default::default()
-        }),
+        },
     )
-    .await
-    .unwrap();
+    .await;
     let (st, _) = within(20.0, "halt result", halt.async_request_result(gid))
         .await
         .unwrap();
@@ -481,9 +471,7 @@ async fn scenario(mapping: ServiceMapping) {
         velocity_limit_low: -500.0,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "torque goal", torque.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&torque, "torque goal", goal).await;
     let (st, res) = within(20.0, "torque result", torque.async_request_result(gid))
         .await
         .unwrap();
@@ -501,24 +489,21 @@ async fn scenario(mapping: ServiceMapping) {
         velocity_limit_low: -500.0,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "bad torque goal", torque.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&torque, "bad torque goal", goal).await;
     let (st, res) = within(20.0, "bad torque result", torque.async_request_result(gid))
         .await
         .unwrap();
     assert_eq!(st, GoalStatusEnum::Aborted);
     assert!(res.error && res.error_id == 0x4B06, "{res:?}");
-    let (gid, _) = within(
-        10.0,
+    let (gid, _) = send_goal(
+        &halt,
         "halt goal",
-        halt.async_send_goal(action::HaltGoal {
+        action::HaltGoal {
             axis: "x".into(),
             ..Default::default()
-        }),
+        },
     )
-    .await
-    .unwrap();
+    .await;
     let (st, _) = within(20.0, "halt result", halt.async_request_result(gid))
         .await
         .unwrap();
@@ -587,9 +572,7 @@ async fn scenario(mapping: ServiceMapping) {
         ratio_denominator: 2,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "gear_in goal", gear.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&gear, "gear_in goal", goal).await;
     let (st, res) = within(20.0, "gear_in result", gear.async_request_result(gid))
         .await
         .unwrap();
@@ -630,9 +613,7 @@ async fn scenario(mapping: ServiceMapping) {
         ratio_denominator: 0,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "bad gear_in goal", gear.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&gear, "bad gear_in goal", goal).await;
     let (st, res) = within(20.0, "bad gear_in result", gear.async_request_result(gid))
         .await
         .unwrap();

@@ -15,7 +15,7 @@ use motion_msgs::srv::*;
 use pickplace_node::PickPlaceNode;
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
-use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
+use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
 
 const CONFIG: &str = r#"
 initial_tcp: [0, 0, 200, 180, 0, 0, 0]
@@ -222,9 +222,7 @@ async fn scenario(mapping: ServiceMapping) {
         )
         .await;
     let target = [150.0, -50.0, 120.0, 180.0, 0.0, 0.0, 0.0];
-    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal(target, "")))
-        .await
-        .unwrap();
+    let (gid, resp) = send_goal(&ac, "send goal", goal(target, "")).await;
     assert!(resp.accepted);
     let (status, result) = within(30.0, "pick_and_place result", ac.async_request_result(gid))
         .await
@@ -253,9 +251,7 @@ async fn scenario(mapping: ServiceMapping) {
         set_target: 9,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(bad))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&ac, "send bad goal", bad).await;
     let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid))
         .await
         .unwrap();
@@ -278,13 +274,7 @@ async fn scenario(mapping: ServiceMapping) {
             &PickPlaceHome::action_type_name(),
         )
         .await;
-    let (gid, resp) = within(
-        10.0,
-        "send home goal",
-        home.async_send_goal(PickPlaceHomeGoal::default()),
-    )
-    .await
-    .unwrap();
+    let (gid, resp) = send_goal(&home, "send home goal", PickPlaceHomeGoal::default()).await;
     assert!(resp.accepted);
     let (status, result) = within(20.0, "home result", home.async_request_result(gid))
         .await
@@ -295,13 +285,7 @@ async fn scenario(mapping: ServiceMapping) {
     // Cancel: a long move (2 m at 100 mm/s); cancel = halt, abort at standstill -> CANCELED,
     // the cell READY again without a held path.
     let far = [2150.0, -50.0, 120.0, 180.0, 0.0, 0.0, 0.0];
-    let (gid, resp) = within(
-        10.0,
-        "send long goal",
-        ac.async_send_goal(goal(far, "{path_vel: 100}")),
-    )
-    .await
-    .unwrap();
+    let (gid, resp) = send_goal(&ac, "send long goal", goal(far, "{path_vel: 100}")).await;
     assert!(resp.accepted);
     tokio::time::sleep(std::time::Duration::from_millis(300)).await;
     let cr = within(

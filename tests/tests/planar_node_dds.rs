@@ -20,7 +20,7 @@ use planar_engine::errors::{E_INVALID_STATE, E_OBJECT_ERROR};
 use planar_node::PlanarNode;
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{ServiceMapping, Subscription};
-use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
+use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
 
 /// One 3 x 2 stator part, two movers on it.
 const CONFIG: &str = "
@@ -216,9 +216,7 @@ async fn scenario(mapping: ServiceMapping) {
         use_orientation: true,
         ..Default::default()
     };
-    let (gid, resp) = within(10.0, "send goal", ac.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, resp) = send_goal(&ac, "send goal", goal).await;
     assert!(resp.accepted);
     let (status, result) = within(30.0, "move result", ac.async_request_result(gid))
         .await
@@ -238,9 +236,7 @@ async fn scenario(mapping: ServiceMapping) {
         x: 1.0,
         ..Default::default()
     };
-    let (gid, _) = within(10.0, "send bad goal", ac.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, _) = send_goal(&ac, "send bad goal", goal).await;
     let (status, result) = within(20.0, "bad goal result", ac.async_request_result(gid))
         .await
         .unwrap();
@@ -259,9 +255,7 @@ async fn scenario(mapping: ServiceMapping) {
         use_orientation: true,
         ..Default::default()
     };
-    let (gid, resp) = within(10.0, "send slow goal", ac.async_send_goal(goal))
-        .await
-        .unwrap();
+    let (gid, resp) = send_goal(&ac, "send slow goal", goal).await;
     assert!(resp.accepted);
     tokio::time::sleep(std::time::Duration::from_millis(200)).await;
     let cr = within(
