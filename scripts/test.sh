@@ -6,6 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 export CARGO_TERM_COLOR=${CARGO_TERM_COLOR:-never}
+# setup.sh installed cyclonedds: the Rust/Python CDR cross-check must run, not skip.
+export MOTION_MSGS_REQUIRE_CYCLONEDDS=1
 cargo build --workspace --all-targets --quiet
 echo "== benchmark smoke runs"
 scripts/netns-run cargo run --quiet -p system_tests --bin bench -- --smoke
