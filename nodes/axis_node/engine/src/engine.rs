@@ -2191,153 +2191,65 @@ impl Engine for AxisEngine {
             _ => {}
         }
         let ax = self.axis_index(cmd.axis().unwrap_or_default())?;
+        // A move FB: its dynamics screened (§3.5), then admitted through the buffer logic (§3.6).
+        macro_rules! positioning {
+            ($c:expr, $kind:ident, $req:expr) => {{
+                let fb = concat!("MC_", stringify!($kind));
+                let l = move_limits(
+                    &self.axes[ax],
+                    fb,
+                    Some($c.velocity),
+                    $c.acceleration,
+                    $c.deceleration,
+                    $c.jerk,
+                )?;
+                self.motion(ax, FbKind::$kind, fb, $req, l, $c.buffer_mode, $c.options)
+            }};
+        }
         match cmd {
             AxisCommand::Power(c) => self.power(ax, c),
             AxisCommand::Reset(_) => self.reset(ax),
             AxisCommand::MoveAbsolute(c) => {
-                let fb = "MC_MoveAbsolute";
-                finite(&c.axis, fb, "Position", c.position)?;
-                let l = move_limits(
-                    &self.axes[ax],
-                    fb,
-                    Some(c.velocity),
-                    c.acceleration,
-                    c.deceleration,
-                    c.jerk,
-                )?;
-                self.motion(
-                    ax,
-                    FbKind::MoveAbsolute,
-                    fb,
-                    Request::Absolute(c.position),
-                    l,
-                    c.buffer_mode,
-                    c.options,
-                )
+                finite(&c.axis, "MC_MoveAbsolute", "Position", c.position)?;
+                positioning!(c, MoveAbsolute, Request::Absolute(c.position))
             }
             AxisCommand::MoveRelative(c) => {
-                let fb = "MC_MoveRelative";
-                finite(&c.axis, fb, "Distance", c.distance)?;
-                let l = move_limits(
-                    &self.axes[ax],
-                    fb,
-                    Some(c.velocity),
-                    c.acceleration,
-                    c.deceleration,
-                    c.jerk,
-                )?;
-                self.motion(
-                    ax,
-                    FbKind::MoveRelative,
-                    fb,
-                    Request::Relative(c.distance),
-                    l,
-                    c.buffer_mode,
-                    c.options,
-                )
+                finite(&c.axis, "MC_MoveRelative", "Distance", c.distance)?;
+                positioning!(c, MoveRelative, Request::Relative(c.distance))
             }
             AxisCommand::MoveAdditive(c) => {
-                let fb = "MC_MoveAdditive";
-                finite(&c.axis, fb, "Distance", c.distance)?;
-                let l = move_limits(
-                    &self.axes[ax],
-                    fb,
-                    Some(c.velocity),
-                    c.acceleration,
-                    c.deceleration,
-                    c.jerk,
-                )?;
-                self.motion(
-                    ax,
-                    FbKind::MoveAdditive,
-                    fb,
-                    Request::Additive(c.distance),
-                    l,
-                    c.buffer_mode,
-                    c.options,
-                )
+                finite(&c.axis, "MC_MoveAdditive", "Distance", c.distance)?;
+                positioning!(c, MoveAdditive, Request::Additive(c.distance))
             }
             AxisCommand::MoveModulo(c) => {
-                let fb = "MC_MoveModulo";
-                finite(&c.axis, fb, "Position", c.position)?;
-                let l = move_limits(
-                    &self.axes[ax],
-                    fb,
-                    Some(c.velocity),
-                    c.acceleration,
-                    c.deceleration,
-                    c.jerk,
-                )?;
+                finite(&c.axis, "MC_MoveModulo", "Position", c.position)?;
                 let req = Request::Modulo {
                     position: c.position,
                     direction: c.direction,
                 };
-                self.motion(ax, FbKind::MoveModulo, fb, req, l, c.buffer_mode, c.options)
+                positioning!(c, MoveModulo, req)
             }
             AxisCommand::MoveVelocity(c) => {
-                let fb = "MC_MoveVelocity";
-                let l = move_limits(
-                    &self.axes[ax],
-                    fb,
-                    Some(c.velocity),
-                    c.acceleration,
-                    c.deceleration,
-                    c.jerk,
-                )?;
-                self.motion(
-                    ax,
-                    FbKind::MoveVelocity,
-                    fb,
-                    Request::Velocity(c.direction),
-                    l,
-                    c.buffer_mode,
-                    c.options,
-                )
+                positioning!(c, MoveVelocity, Request::Velocity(c.direction))
             }
             AxisCommand::MoveContinuousAbsolute(c) => {
                 let fb = "MC_MoveContinuousAbsolute";
                 finite(&c.axis, fb, "Position", c.position)?;
                 let ev = end_velocity(&self.axes[ax], fb, c.end_velocity)?;
-                let l = move_limits(
-                    &self.axes[ax],
-                    fb,
-                    Some(c.velocity),
-                    c.acceleration,
-                    c.deceleration,
-                    c.jerk,
-                )?;
-                let req = Request::ContinuousAbsolute(c.position, ev);
-                self.motion(
-                    ax,
-                    FbKind::MoveContinuousAbsolute,
-                    fb,
-                    req,
-                    l,
-                    c.buffer_mode,
-                    c.options,
+                positioning!(
+                    c,
+                    MoveContinuousAbsolute,
+                    Request::ContinuousAbsolute(c.position, ev)
                 )
             }
             AxisCommand::MoveContinuousRelative(c) => {
                 let fb = "MC_MoveContinuousRelative";
                 finite(&c.axis, fb, "Distance", c.distance)?;
                 let ev = end_velocity(&self.axes[ax], fb, c.end_velocity)?;
-                let l = move_limits(
-                    &self.axes[ax],
-                    fb,
-                    Some(c.velocity),
-                    c.acceleration,
-                    c.deceleration,
-                    c.jerk,
-                )?;
-                let req = Request::ContinuousRelative(c.distance, ev);
-                self.motion(
-                    ax,
-                    FbKind::MoveContinuousRelative,
-                    fb,
-                    req,
-                    l,
-                    c.buffer_mode,
-                    c.options,
+                positioning!(
+                    c,
+                    MoveContinuousRelative,
+                    Request::ContinuousRelative(c.distance, ev)
                 )
             }
             AxisCommand::Halt(c) => {
