@@ -2,10 +2,7 @@
 //! velocity at the state rate, result = Done | CommandAborted | Error with ErrorID.
 //! Cancel = MC_Halt with the axis defaults (the engine's `cancel`).
 
-use crate::services::{buffer_mode, direction};
-use axis_engine::{
-    AxisCommand, AxisEngine, AxisReply, AxisSnapshot, FbOutputs, MoveOptions, ReplyValue,
-};
+use axis_engine::{AxisCommand, AxisEngine, AxisReply, AxisSnapshot, FbOutputs, ReplyValue};
 use motion_core::{CmdId, CommandState, ExecuteOutputs, Rejection};
 use motion_msgs::action::*;
 use motion_runtime::cycle::Stamped;
@@ -104,13 +101,6 @@ macro_rules! motion_action {
     };
 }
 
-fn label(axis: &str, command: &str) -> CommandLabel {
-    CommandLabel {
-        object: axis.to_string(),
-        command: command.to_string(),
-    }
-}
-
 motion_action!(
     MoveAbsoluteAction,
     MoveAbsolute,
@@ -118,19 +108,17 @@ motion_action!(
     MoveAbsoluteResult,
     MoveAbsoluteFeedback,
     |g: &MoveAbsoluteGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        Ok((
-            AxisCommand::MoveAbsolute(axis_engine::MoveAbsolute {
-                axis: g.axis.clone(),
-                position: g.position,
-                velocity: g.velocity,
-                acceleration: g.acceleration,
-                deceleration: g.deceleration,
-                jerk: g.jerk,
-                buffer_mode: buffer_mode(g.buffer_mode)?,
-                options: MoveOptions::default(),
-            }),
-            label(&g.axis, "move_absolute"),
-        ))
+        // The goal is the service request without the ST_MoveOptions: one decoding path.
+        crate::services::decode_move_absolute(motion_msgs::srv::MoveAbsoluteRequest {
+            axis: g.axis.clone(),
+            position: g.position,
+            velocity: g.velocity,
+            acceleration: g.acceleration,
+            deceleration: g.deceleration,
+            jerk: g.jerk,
+            buffer_mode: g.buffer_mode,
+            ..Default::default()
+        })
     }
 );
 
@@ -141,19 +129,16 @@ motion_action!(
     MoveRelativeResult,
     MoveRelativeFeedback,
     |g: &MoveRelativeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        Ok((
-            AxisCommand::MoveRelative(axis_engine::MoveRelative {
-                axis: g.axis.clone(),
-                distance: g.distance,
-                velocity: g.velocity,
-                acceleration: g.acceleration,
-                deceleration: g.deceleration,
-                jerk: g.jerk,
-                buffer_mode: buffer_mode(g.buffer_mode)?,
-                options: MoveOptions::default(),
-            }),
-            label(&g.axis, "move_relative"),
-        ))
+        crate::services::decode_move_relative(motion_msgs::srv::MoveRelativeRequest {
+            axis: g.axis.clone(),
+            distance: g.distance,
+            velocity: g.velocity,
+            acceleration: g.acceleration,
+            deceleration: g.deceleration,
+            jerk: g.jerk,
+            buffer_mode: g.buffer_mode,
+            ..Default::default()
+        })
     }
 );
 
@@ -164,19 +149,15 @@ motion_action!(
     MoveVelocityResult,
     MoveVelocityFeedback,
     |g: &MoveVelocityGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        Ok((
-            AxisCommand::MoveVelocity(axis_engine::MoveVelocity {
-                axis: g.axis.clone(),
-                velocity: g.velocity,
-                acceleration: g.acceleration,
-                deceleration: g.deceleration,
-                jerk: g.jerk,
-                direction: direction(g.direction)?,
-                buffer_mode: buffer_mode(g.buffer_mode)?,
-                options: MoveOptions::default(),
-            }),
-            label(&g.axis, "move_velocity"),
-        ))
+        crate::services::decode_move_velocity(motion_msgs::srv::MoveVelocityRequest {
+            axis: g.axis.clone(),
+            velocity: g.velocity,
+            acceleration: g.acceleration,
+            deceleration: g.deceleration,
+            jerk: g.jerk,
+            direction: g.direction,
+            buffer_mode: g.buffer_mode,
+        })
     },
     axis,
     Some(|o: &FbOutputs| o.in_velocity)
@@ -212,16 +193,12 @@ motion_action!(
     HaltResult,
     HaltFeedback,
     |g: &HaltGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        Ok((
-            AxisCommand::Halt(axis_engine::Halt {
-                axis: g.axis.clone(),
-                deceleration: g.deceleration,
-                jerk: g.jerk,
-                buffer_mode: buffer_mode(g.buffer_mode)?,
-                options: MoveOptions::default(),
-            }),
-            label(&g.axis, "halt"),
-        ))
+        crate::services::decode_halt(motion_msgs::srv::HaltRequest {
+            axis: g.axis.clone(),
+            deceleration: g.deceleration,
+            jerk: g.jerk,
+            buffer_mode: g.buffer_mode,
+        })
     }
 );
 

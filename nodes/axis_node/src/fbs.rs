@@ -4,7 +4,7 @@
 //! input changes of a running instance (`~/home_calibration_cam`, `~/torque_control_update`,
 //! `~/touch_probe_plc_event`, `~/set_execute`), addressed by its command id.
 
-use crate::services::{buffer_mode, direction_u8, label, move_options, respond, Outcome};
+use crate::services::{buffer_mode, direction, label, move_options, respond, Outcome};
 use axis_engine::{
     AxisCommand, AxisEngine, HomingMode, HomingOptions, SignalEdge, SuperpositionAbortOption,
     SuperpositionMode, TorqueControlOptions, TouchProbeMode, TouchProbeUnit, TriggerRef,
@@ -30,7 +30,7 @@ pub(crate) fn decode_move_modulo(r: MoveModuloRequest) -> Decoded {
             acceleration: r.acceleration,
             deceleration: r.deceleration,
             jerk: r.jerk,
-            direction: direction_u8(r.direction)?,
+            direction: direction(r.direction)?,
             buffer_mode: buffer_mode(r.buffer_mode)?,
             options: move_options(
                 r.enable_blending_position,
@@ -112,9 +112,9 @@ pub(crate) fn home_command(
             buffer_mode: buffer_mode(buffer)?,
             options: HomingOptions {
                 clear_position_lag,
-                search_direction: direction_u8(search_direction)?,
+                search_direction: direction(search_direction)?,
                 search_velocity,
-                sync_direction: direction_u8(sync_direction)?,
+                sync_direction: direction(sync_direction)?,
                 sync_velocity,
                 reference_mode,
             },

@@ -32,12 +32,8 @@ pub(crate) fn buffer_mode(raw: u8) -> Result<BufferMode, Rejection> {
     BufferMode::from_raw(u32::from(raw))
 }
 
+/// `MC_Direction` from its raw value; `from_raw` refuses unknown values (0x7F03).
 pub(crate) fn direction(raw: u8) -> Result<Direction, Rejection> {
-    Direction::from_raw(u32::from(raw))
-}
-
-/// `MC_Direction` of homing options; `from_raw` refuses unknown values (0x7F03).
-pub(crate) fn direction_u8(raw: u8) -> Result<Direction, Rejection> {
     Direction::from_raw(u32::from(raw))
 }
 
@@ -111,7 +107,9 @@ pub(crate) fn decode_move_absolute(
     ))
 }
 
-fn decode_move_relative(r: MoveRelativeRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
+pub(crate) fn decode_move_relative(
+    r: MoveRelativeRequest,
+) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "move_relative");
     Ok((
         AxisCommand::MoveRelative(axis_engine::MoveRelative {
@@ -153,7 +151,9 @@ fn decode_move_additive(r: MoveAdditiveRequest) -> Result<(AxisCommand, CommandL
     ))
 }
 
-fn decode_move_velocity(r: MoveVelocityRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
+pub(crate) fn decode_move_velocity(
+    r: MoveVelocityRequest,
+) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "move_velocity");
     Ok((
         AxisCommand::MoveVelocity(axis_engine::MoveVelocity {
@@ -170,7 +170,7 @@ fn decode_move_velocity(r: MoveVelocityRequest) -> Result<(AxisCommand, CommandL
     ))
 }
 
-fn decode_halt(r: HaltRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
+pub(crate) fn decode_halt(r: HaltRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "halt");
     Ok((
         AxisCommand::Halt(axis_engine::Halt {
