@@ -6,9 +6,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 export CARGO_TERM_COLOR=${CARGO_TERM_COLOR:-never}
+# A one-shot build gains nothing from incremental state, which would add GBs on disk.
+export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}
 # setup.sh installed cyclonedds: the Rust/Python CDR cross-check must run, not skip.
 export MOTION_MSGS_REQUIRE_CYCLONEDDS=1
 cargo build --workspace --all-targets --quiet
+echo "== disk: target $(du -sh target 2>/dev/null | cut -f1), free $(df -h . | awk 'NR==2 {print $4}')"
 echo "== benchmark smoke runs"
 scripts/netns-run cargo run --quiet -p system_tests --bin bench -- --smoke
 echo "== tests"
