@@ -221,60 +221,6 @@ fn deterministic_replay() {
     assert_eq!(run(), run());
 }
 
-/// Scaling of the guard: 500 movers, all moving. Run with
-/// `cargo test --release -p planar_engine --test no_overlap_stress -- --ignored --nocapture`.
-#[test]
-#[ignore]
-fn bench_500_movers_step_time() {
-    for (nx, ny) in [(25, 5), (25, 10), (25, 20)] {
-        let mut rng = SmallRng::seed_from_u64(11);
-        let mut cfg = grid_config(nx, ny, 240.0, &mut rng);
-        for m in &mut cfg.movers {
-            m.width = 155.0;
-            m.height = 155.0;
-        }
-        let mut eng = PlanarEngine::new(cfg.clone()).unwrap();
-        let mut ev = vec![];
-        for m in &cfg.movers {
-            eng.command(PlanarCommand::MoverEnable {
-                mover: m.name.clone(),
-            })
-            .unwrap();
-        }
-        eng.step(
-            Tick {
-                index: 0,
-                dt: 0.001,
-            },
-            &mut ev,
-        );
-        // Everyone shuffles: one step up or right within its lane.
-        for (k, m) in cfg.movers.iter().enumerate() {
-            let (x, y) = (m.initial_pose.x, m.initial_pose.y);
-            let c = if k % 2 == 0 {
-                mtp(&m.name, x + 60.0, y, 0.0)
-            } else {
-                mtp(&m.name, x, y + 60.0, 0.0)
-            };
-            eng.command(c).unwrap();
-        }
-        let n = 300;
-        let t0 = std::time::Instant::now();
-        for t in 1..=n {
-            ev.clear();
-            eng.step(
-                Tick {
-                    index: t,
-                    dt: 0.001,
-                },
-                &mut ev,
-            );
-        }
-        let per = t0.elapsed().as_secs_f64() / n as f64;
-        eprintln!("{} movers: {:.1} µs per step", cfg.movers.len(), per * 1e6);
-    }
-}
-
 /// External set points driving into a standing mover: the guard refuses the set point,
 /// the mover gets E_COLLISION with QuickStop, footprints never overlap.
 #[test]

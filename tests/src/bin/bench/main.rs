@@ -1,7 +1,7 @@
 //! Benchmarks (not timed tests): figures are printed, with ratios against references measured
 //! in the same run.
 //!
-//! `bench [--smoke] [runtime] [roundtrip] [axis] [ruckig]` (default: all). `--smoke` runs short
+//! `bench [--smoke] [runtime] [roundtrip] [axis] [planar] [pickplace] [ruckig]` (default: all). `--smoke` runs short
 //! versions (CI).
 //! - runtime: cycle jitter p50/p99/max and overruns of the cyclic controller at 1 kHz with a
 //!   trivial engine (60 s; smoke 2 s).
@@ -10,6 +10,10 @@
 //!   Must run inside scripts/netns-run.
 //! - axis: engine step cost per moving axis for 1, 100, 1000 axes (all moving), against the
 //!   cost of evaluating their trajectories alone (the floor).
+//! - planar: engine step cost for 10, 100, 500 movers moving freely with the overlap guard,
+//!   against evaluating their X/Y/C profiles alone.
+//! - pickplace: cell step mean and p99.9 (2 belts × 30 workpieces, blended ellipse) against the
+//!   manual's module; cycles from an execute edge to the first moving set point.
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
 //!   the time-optimal duration of the PyPI `ruckig` package; limits checked at 1 ms samples.
 
@@ -20,6 +24,9 @@ use motion_runtime::{ClockMode, CommandLabel, Controller, CycleConfig, NodeHost}
 use ros2_client::ServiceMapping;
 use std::time::{Duration, Instant};
 use system_tests::ClientNode;
+
+mod pickplace;
+mod planar;
 
 /// A trivial engine: one integrator; a command is accepted at once.
 struct Trivial {
@@ -48,7 +55,7 @@ fn main() {
     let smoke = args.iter().any(|a| a == "--smoke");
     let all = !args
         .iter()
-        .any(|a| ["runtime", "roundtrip", "axis", "ruckig"].contains(&a.as_str()));
+        .any(|a| ["runtime", "roundtrip", "axis", "planar", "pickplace", "ruckig"].contains(&a.as_str()));
     if all || args.iter().any(|a| a == "runtime") {
         let secs = if smoke { 2.0 } else { 60.0 };
         bare_sleep_reference(secs);
@@ -67,6 +74,15 @@ fn main() {
             if smoke { &[1, 100] } else { &[1, 100, 1000] },
             if smoke { 200 } else { 2000 },
         );
+    }
+    if all || args.iter().any(|a| a == "planar") {
+        planar::step_cost(
+            if smoke { &[10, 100] } else { &[10, 100, 500] },
+            if smoke { 200 } else { 2000 },
+        );
+    }
+    if all || args.iter().any(|a| a == "pickplace") {
+        pickplace::step_cost(if smoke { 5_000 } else { 100_000 });
     }
     if all || args.iter().any(|a| a == "ruckig") {
         ruckig_ratio(if smoke { 100 } else { 1000 });
@@ -137,29 +153,7 @@ fn axis_step_cost(counts: &[usize], steps: u64) {
         }
         let per = t0.elapsed().as_secs_f64() / (steps as f64 * n as f64);
         let moving = e.snapshot().axes.iter().filter(|a| a.has_job).count();
-        // Floor: evaluating one planned profile per axis and step.
-        let limits = motion_core::trajectory::Limits {
-            velocity: 1000.0,
-            acceleration: 5000.0,
-            deceleration: 5000.0,
-            jerk: 50000.0,
-        };
-        let profile = motion_core::trajectory::Profile1::to_position(
-            motion_core::trajectory::State1::at_rest(0.0),
-            1.0e6,
-            0.0,
-            &limits,
-        )
-        .expect("profile");
-        let t0 = Instant::now();
-        let mut acc = 0.0;
-        for k in 0..steps {
-            for i in 0..n {
-                acc += profile.at((k as f64 + i as f64 * 1e-6) * 0.001).pos;
-            }
-        }
-        let floor = t0.elapsed().as_secs_f64() / (steps as f64 * n as f64);
-        std::hint::black_box(acc);
+        let floor = profile_floor(n, steps) / n as f64;
         println!(
             "axis engine step: {n:5} axes ({moving} moving): {:7.1} ns per moving axis per step | profile evaluation alone {:5.1} ns (ratio {:.1}) | target <= 100 ns at 1000 axes",
             per * 1e9,
@@ -167,6 +161,33 @@ fn axis_step_cost(counts: &[usize], steps: u64) {
             per / floor
         );
     }
+}
+
+/// Reference for the step benchmarks: seconds per evaluation of one planned jerk-limited
+/// profile, `n` profiles per step (the floor of any set-point generator).
+fn profile_floor(n: usize, steps: u64) -> f64 {
+    let limits = motion_core::trajectory::Limits {
+        velocity: 1000.0,
+        acceleration: 5000.0,
+        deceleration: 5000.0,
+        jerk: 50000.0,
+    };
+    let profile = motion_core::trajectory::Profile1::to_position(
+        motion_core::trajectory::State1::at_rest(0.0),
+        1.0e6,
+        0.0,
+        &limits,
+    )
+    .expect("profile");
+    let t0 = Instant::now();
+    let mut acc = 0.0;
+    for k in 0..steps {
+        for i in 0..n {
+            acc += profile.at((k as f64 + i as f64 * 1e-6) * 0.001).pos;
+        }
+    }
+    std::hint::black_box(acc);
+    t0.elapsed().as_secs_f64() / steps as f64
 }
 
 /// Our trajectory durations against the PyPI ruckig oracle, with a limit check.

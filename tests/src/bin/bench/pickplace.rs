@@ -1,0 +1,145 @@
+//! Pick-and-place cell step cost (issue 5, pick_and_place.md §17): identity kinematics, two
+//! belts with 30 tracked workpieces each, a blended ellipse profile running; mean and p99.9
+//! over the measured steps, and the cycles from an execute edge to the first moving set point.
+//! Reference: the manual's module, 200 µs mean / 511 µs peak on a 1.6 GHz Atom.
+
+use motion_core::{Engine, Tick};
+use pickplace_engine::{
+    BeltConfig, ConveyorBeltPar, PickPlaceCommand, PickPlaceConfig, PickPlaceEngine, ScPar,
+    TmState,
+};
+use std::time::Instant;
+
+fn belt(y: f64, z_dist: f64, sync_time: f64) -> BeltConfig {
+    BeltConfig {
+        params: ConveyorBeltPar {
+            park_pos: [-400.0, y, 300.0, 180.0, 0.0, 180.0],
+            z_dist_belt: z_dist,
+            conveyor_belt_origin: [400.0, y, 100.0, 0.0, 0.0, 180.0],
+            sync_time_on_belt: sync_time,
+            lower_sync_limit: 200.0,
+            upper_sync_limit: 800.0,
+        },
+        initial_velocity: 1.0,
+        initial_position: 0.0,
+    }
+}
+
+/// The §19 common setup with belts 1 and 2 of W8, enabled and READY.
+fn cell(path_prep_cycles: u32) -> PickPlaceEngine {
+    let mut cfg = PickPlaceConfig {
+        params: ScPar {
+            max_vel: [0.0; 7],
+            max_acc_dec: [0.0; 7],
+            max_jerk: [0.0; 7],
+            path_vel: 5.0,
+            path_acc: 5000.0,
+            path_dec: 5000.0,
+            path_jerk: 1e6,
+            path_mode: 1,
+            z_dist_elliptical: 60.0,
+            blending_radius: 10.0,
+            z_start_dist: 20.0,
+            z_target_dist: 40.0,
+            target_pos: [300.0, 0.0, 140.0, 180.0, 0.0, 90.0, 0.0],
+            ..ScPar::default()
+        },
+        initial_tcp: Some([0.0, 0.0, 200.0, 180.0, 0.0, 180.0, 0.0]),
+        path_prep_cycles,
+        ..Default::default()
+    };
+    cfg.belts.insert("1".into(), belt(500.0, 50.0, 0.2));
+    cfg.belts.insert("2".into(), belt(-500.0, 40.0, 0.1));
+    let mut e = PickPlaceEngine::new(cfg).expect("cell config");
+    e.command(PickPlaceCommand::SetEnable(true)).expect("enable");
+    e.command(PickPlaceCommand::SetRegulatorOn(true))
+        .expect("regulator");
+    e
+}
+
+fn step(e: &mut PickPlaceEngine, tick: &mut u64, ev: &mut Vec<motion_core::CommandEvent>) {
+    e.step(
+        Tick {
+            index: *tick,
+            dt: 0.001,
+        },
+        ev,
+    );
+    ev.clear();
+    e.drain_events();
+    *tick += 1;
+}
+
+/// Cycles between the cycle that takes the execute edge and the first cycle with a non-zero
+/// path set-point velocity (§17: the observable delay is `path_prep_cycles`).
+fn start_delay(path_prep_cycles: u32) -> u64 {
+    let mut e = cell(path_prep_cycles);
+    let (mut tick, mut ev) = (0, Vec::new());
+    step(&mut e, &mut tick, &mut ev);
+    assert_eq!(e.snapshot().state, TmState::Ready);
+    e.command(PickPlaceCommand::Execute { set_target: 0 })
+        .expect("execute");
+    for k in 0..100 {
+        step(&mut e, &mut tick, &mut ev);
+        if e.snapshot().outputs.set_path_vel_out > 1e-9 {
+            return k;
+        }
+    }
+    u64::MAX
+}
+
+pub fn step_cost(steps: u64) {
+    let mut e = cell(3);
+    let (mut tick, mut ev) = (0, Vec::new());
+    step(&mut e, &mut tick, &mut ev);
+    for b in [1u8, 2] {
+        for k in 0..30 {
+            e.command(PickPlaceCommand::DetectWorkpiece {
+                belt: b,
+                position: [-3000.0 + k as f64, 0.0, 0.0, 0.0, 0.0, 0.0],
+                valid_delay_cycles: 0,
+            })
+            .expect("workpiece");
+        }
+    }
+    for _ in 0..100 {
+        step(&mut e, &mut tick, &mut ev);
+    }
+    let tracked: Vec<usize> = e
+        .snapshot()
+        .belts
+        .iter()
+        .map(|b| b.workpieces.len())
+        .filter(|n| *n > 0)
+        .collect();
+    let mut times = Vec::with_capacity(steps as usize);
+    let mut moving = 0u64;
+    for k in 0..steps {
+        if k % 20_000 == 0 {
+            e.command(PickPlaceCommand::Execute { set_target: 0 })
+                .expect("execute");
+        }
+        let t0 = Instant::now();
+        step(&mut e, &mut tick, &mut ev);
+        times.push(t0.elapsed().as_secs_f64());
+        if e.snapshot().outputs.set_path_vel_out > 1e-9 {
+            moving += 1;
+        }
+    }
+    let mean = times.iter().sum::<f64>() / times.len() as f64;
+    let p999 = super::percentile(&mut times, 0.999);
+    let max = times.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "pickplace cell step: belts with {tracked:?} workpieces, path moving in {moving} of {steps} steps: mean {:.2} us, p99.9 {:.2} us, max {:.1} us | manual's module 200 us mean, 511 us peak (ratio {:.3} / {:.3}) | target <= 10 us mean, <= 50 us p99.9",
+        mean * 1e6,
+        p999 * 1e6,
+        max * 1e6,
+        mean / 200e-6,
+        p999 / 511e-6
+    );
+    println!(
+        "pickplace execute edge -> first moving set point: {} cycle(s) after the edge's cycle with path_prep_cycles = 1, {} with the default 3 (the manual's module: up to 25)",
+        start_delay(1),
+        start_delay(3)
+    );
+}

@@ -1,0 +1,107 @@
+//! Planar engine step cost: movers moving freely on a grid with the overlap guard on
+//! (issue 4: ≤ 500 µs per step at 500 movers). Reference: evaluating three planned profiles
+//! (X, Y, C) per mover and step, the floor of any jerk-limited planar set-point generator.
+
+use motion_core::{Engine, Tick};
+use planar_engine::{
+    DynamicConstraint, GroupConfig, MoveToPositionOptions, MoverConfig, PlanarCommand,
+    PlanarConfig, PlanarEngine, PositionXYC,
+};
+use std::time::Instant;
+
+/// `n` movers on a grid, 240 mm pitch, 25 per row; every second one of a mixed format.
+fn grid(n: usize) -> PlanarConfig {
+    let movers = (0..n)
+        .map(|k| {
+            let (i, j) = (k % 25, k / 25);
+            let mut m = MoverConfig::new(&format!("m{k}"), i as f64 * 240.0, j as f64 * 240.0, 0.0);
+            m.width = 155.0;
+            m.height = 155.0;
+            m
+        })
+        .collect();
+    PlanarConfig {
+        movers,
+        groups: vec![GroupConfig {
+            name: "G".into(),
+            oid: 0,
+        }],
+        enable_time: 0.0,
+        ..Default::default()
+    }
+}
+
+fn step(e: &mut PlanarEngine, tick: &mut u64, ev: &mut Vec<motion_core::CommandEvent>) {
+    e.step(
+        Tick {
+            index: *tick,
+            dt: 0.001,
+        },
+        ev,
+    );
+    ev.clear();
+    *tick += 1;
+}
+
+/// Every mover shuttles 60 mm within its cell of the grid (even: along X, odd: along Y),
+/// so all move at once and the guard checks neighbours that come close.
+pub fn step_cost(counts: &[usize], steps: u64) {
+    for &n in counts {
+        let cfg = grid(n);
+        let mut e = PlanarEngine::new(cfg.clone()).expect("planar config");
+        let mut ev = Vec::new();
+        let mut tick = 0;
+        for m in &cfg.movers {
+            e.command(PlanarCommand::MoverEnable {
+                mover: m.name.clone(),
+            })
+            .expect("enable");
+        }
+        step(&mut e, &mut tick, &mut ev);
+        let (mut total, mut samples, mut moving_sum) = (0.0, 0u64, 0usize);
+        let mut k = 0u64;
+        while samples < steps {
+            // A new leg whenever the previous one ended (about every 250 cycles).
+            if k % 250 == 0 {
+                let out = (k / 250) % 2 == 0;
+                for (i, m) in cfg.movers.iter().enumerate() {
+                    let (x, y) = (m.initial_pose.x, m.initial_pose.y);
+                    let d = if out { 60.0 } else { 0.0 };
+                    let (tx, ty) = if i % 2 == 0 { (x + d, y) } else { (x, y + d) };
+                    e.command(PlanarCommand::MoveToPosition {
+                        mover: m.name.clone(),
+                        target_position: PositionXYC::new(tx, ty, 0.0),
+                        constraint: DynamicConstraint::default(),
+                        options: MoveToPositionOptions::default(),
+                    })
+                    .expect("move");
+                }
+            }
+            k += 1;
+            let t0 = Instant::now();
+            step(&mut e, &mut tick, &mut ev);
+            let dt = t0.elapsed().as_secs_f64();
+            let moving = e
+                .snapshot()
+                .movers
+                .iter()
+                .filter(|m| m.set_velo.x != 0.0 || m.set_velo.y != 0.0)
+                .count();
+            if moving > 0 {
+                total += dt;
+                samples += 1;
+                moving_sum += moving;
+            }
+        }
+        let per_step = total / samples as f64;
+        let floor = super::profile_floor(3 * n, steps);
+        println!(
+            "planar engine step: {n:4} movers (mean {:.0} moving): {:8.1} us per step, {:6.0} ns per mover | 3 profile evaluations per mover alone {:5.1} us (ratio {:.1}) | target <= 500 us at 500 movers",
+            moving_sum as f64 / samples as f64,
+            per_step * 1e6,
+            per_step * 1e9 / n as f64,
+            floor * 1e6,
+            per_step / floor
+        );
+    }
+}
