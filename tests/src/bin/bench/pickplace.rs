@@ -115,7 +115,7 @@ pub fn step_cost(steps: u64) {
     let mut times = Vec::with_capacity(steps as usize);
     let mut moving = 0u64;
     for k in 0..steps {
-        if k % 20_000 == 0 {
+        if k.is_multiple_of(20_000) {
             e.command(PickPlaceCommand::Execute { set_target: 0 })
                 .expect("execute");
         }

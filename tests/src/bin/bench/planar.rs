@@ -62,7 +62,7 @@ pub fn step_cost(counts: &[usize], steps: u64) {
         let mut k = 0u64;
         while samples < steps {
             // A new leg whenever the previous one ended (about every 250 cycles).
-            if k % 250 == 0 {
+            if k.is_multiple_of(250) {
                 let out = (k / 250) % 2 == 0;
                 for (i, m) in cfg.movers.iter().enumerate() {
                     let (x, y) = (m.initial_pose.x, m.initial_pose.y);
