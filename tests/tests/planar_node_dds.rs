@@ -16,7 +16,7 @@ use motion_msgs::srv::{
 };
 use motion_msgs::srv::{MoverMoveToPositionRequest, MoverMoveToPositionResponse};
 use motion_msgs::srv::{PlanarInjectError, PlanarInjectErrorRequest, PlanarInjectErrorResponse};
-use planar_engine::errors::{E_INVALID_STATE, E_OBJECT_ERROR};
+use planar_engine::errors::{E_COLLISION, E_INVALID_STATE, E_OBJECT_ERROR};
 use planar_node::PlanarNode;
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{ServiceMapping, Subscription};
@@ -285,6 +285,46 @@ async fn scenario(mapping: ServiceMapping) {
         "halted near the cancel point: {} vs {}",
         s.movers[0].y,
         result.y
+    );
+
+    // A move onto the standing m2 is refused with E_COLLISION and objectInfo {Mover (302),
+    // m2's OID} (xplanar.md §6.1), in the service response and in the action result.
+    let r = within(
+        5.0,
+        "move onto m2",
+        mv.async_call_service(MoverMoveToPositionRequest {
+            mover: "m1".into(),
+            x: 600.0,
+            y: 360.0,
+            use_orientation: true,
+            ..Default::default()
+        }),
+    )
+    .await
+    .unwrap();
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, E_COLLISION.0, "{}", r.message);
+    assert_eq!(
+        (r.object_type, r.object_id),
+        (302, s.movers[1].oid),
+        "{r:?}"
+    );
+    let goal = MoverMoveToPositionGoal {
+        mover: "m1".into(),
+        x: 600.0,
+        y: 360.0,
+        use_orientation: true,
+        ..Default::default()
+    };
+    let (gid, _) = send_goal(&ac, "send colliding goal", goal).await;
+    let (status, result) = within(20.0, "colliding goal result", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted);
+    assert_eq!(result.error_id, E_COLLISION.0, "{result:?}");
+    assert_eq!(
+        (result.object_type, result.object_id),
+        (302, s.movers[1].oid)
     );
 
     // The fault-injection hook (xplanar.md §6.2): m2 goes to Error with E_OBJECT_ERROR; a

@@ -92,6 +92,19 @@ pub struct Rejection {
     pub error_id: ErrorId,
     /// Human-readable: names the object, field and value where there is one.
     pub message: String,
+    /// The object the error names, where the manual reports one (XPlanar `objectInfo` of
+    /// E_COLLISION: the blocking object's type and id).
+    #[serde(default)]
+    pub object: Option<ObjectRef>,
+}
+
+/// An object reference in an error: the manual's object type number and the object's id.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ObjectRef {
+    /// Object type (e.g. EPlanarObjectType: 302 mover, 303 track, 304 environment).
+    pub kind: u16,
+    /// Object id (OID).
+    pub id: u32,
 }
 
 impl Rejection {
@@ -100,7 +113,14 @@ impl Rejection {
         Rejection {
             error_id,
             message: message.into(),
+            object: None,
         }
+    }
+
+    /// The same rejection naming `object`.
+    pub fn with_object(mut self, object: ObjectRef) -> Self {
+        self.object = Some(object);
+        self
     }
 
     /// A NaN/infinite field.

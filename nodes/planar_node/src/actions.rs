@@ -4,7 +4,7 @@
 //! a command superseded by another one on the same domain ends CommandAborted (§2.4).
 
 use crate::services::{move_a_goal, move_b_goal, move_c_goal, move_to_position_goal, move_z_goal};
-use motion_core::{CommandState, Engine, ExecuteOutputs, Rejection};
+use motion_core::{CommandState, Engine, ErrorId, ExecuteOutputs, Rejection};
 use motion_msgs::action::*;
 use motion_runtime::cycle::Stamped;
 use motion_runtime::{ActionBinding, CommandLabel, NodeShell, ShellError};
@@ -17,6 +17,25 @@ fn pose(snap: &Stamped<PlanarSnapshot>, mover: &str) -> MoverVector {
         .mover(mover)
         .map(|m| m.set_pos)
         .unwrap_or_default()
+}
+
+/// objectInfo of an E_COLLISION end (§6.1): from the rejection at the edge, or the mover's
+/// own record of its guard stop; (0, 0) otherwise.
+fn object_info(
+    snap: &Stamped<PlanarSnapshot>,
+    mover: &str,
+    error_id: ErrorId,
+    rejection: Option<&Rejection>,
+) -> (u16, u32) {
+    if let Some(o) = rejection.and_then(|r| r.object) {
+        return (o.kind, o.id);
+    }
+    match snap.state.mover(mover) {
+        Some(m) if error_id == planar_engine::errors::E_COLLISION => {
+            (m.object_info.object_type as u16, m.object_info.id)
+        }
+        _ => (0, 0),
+    }
 }
 
 macro_rules! mover_action {
@@ -65,6 +84,7 @@ macro_rules! mover_action {
             ) -> $result {
                 let p = pose(snap, &g.mover);
                 let o = ExecuteOutputs::from(end);
+                let (object_type, object_id) = object_info(snap, &g.mover, o.error_id, rejection);
                 $result {
                     done: o.done,
                     command_aborted: o.command_aborted,
@@ -81,6 +101,8 @@ macro_rules! mover_action {
                     a: p.a,
                     b: p.b,
                     c: p.c,
+                    object_type,
+                    object_id,
                 }
             }
         }

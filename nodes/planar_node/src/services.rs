@@ -21,22 +21,28 @@ fn respond<R: CommandResponse>(o: Outcome) -> R {
     motion_runtime::shell::respond(&o, |r| r.id)
 }
 
-/// Responses of the motion services also carry the command's warning (W_DYNAMICS_REDUCED).
-trait WithWarning {
+/// Responses of the motion services also carry the command's warning (W_DYNAMICS_REDUCED)
+/// and, for E_COLLISION, objectInfo: the blocking object (§6.1).
+trait MotionResponse {
     fn set_warning(&mut self, warning_id: u32);
+    fn set_object(&mut self, object_type: u16, object_id: u32);
 }
 
-macro_rules! with_warning {
+macro_rules! motion_response {
     ($($resp:ident),* $(,)?) => {$(
-        impl WithWarning for $resp {
+        impl MotionResponse for $resp {
             fn set_warning(&mut self, warning_id: u32) {
                 self.warning_id = warning_id;
+            }
+            fn set_object(&mut self, object_type: u16, object_id: u32) {
+                self.object_type = object_type;
+                self.object_id = object_id;
             }
         }
     )*};
 }
 
-with_warning!(
+motion_response!(
     MoverMoveToPositionResponse,
     MoverMoveZResponse,
     MoverMoveAResponse,
@@ -45,11 +51,16 @@ with_warning!(
     MoverHaltResponse,
 );
 
-/// [`respond`] plus the warning id of an accepted motion command.
-fn respond_motion<R: CommandResponse + WithWarning>(o: Outcome) -> R {
+/// [`respond`] plus the warning id of an accepted motion command, or the objectInfo of a
+/// rejected one.
+fn respond_motion<R: CommandResponse + MotionResponse>(o: Outcome) -> R {
     let warning = o.as_ref().map(|r| r.warning_id.0).unwrap_or(0);
+    let object = o.as_ref().err().and_then(|e| e.object);
     let mut r: R = respond(o);
     r.set_warning(warning);
+    if let Some(obj) = object {
+        r.set_object(obj.kind, obj.id);
+    }
     r
 }
 

@@ -106,6 +106,7 @@ impl PlanarEngine {
                 oid: mover_oids[i],
                 cfg: m.clone(),
                 sm: PlanarStateMachine::default(),
+                object_info: PlanarObjectInfo::default(),
                 mode: CommandMode::Invalid,
                 cs,
                 xy: Kin2::at_rest(pos),
@@ -412,6 +413,10 @@ impl PlanarEngine {
                 info.object_type, info.id
             ),
         )
+        .with_object(motion_core::ObjectRef {
+            kind: info.object_type as u16,
+            id: info.id,
+        })
     }
 
     /// Group reservation check of a swept area (§5.11); without a group, the area must not
@@ -1775,6 +1780,7 @@ impl PlanarEngine {
             id: self.movers[j].oid,
         };
         self.last_object_info = info;
+        self.movers[i].object_info = info;
         if esg {
             self.mover_error(i, E_COLLISION, ErrorReaction::QuickStop);
         } else {
@@ -1910,6 +1916,7 @@ impl PlanarEngine {
                 .map(|e| e.mode)
                 .unwrap_or(ExternalSetpointMode::None),
             warning_id: m.warning,
+            object_info: m.object_info,
             set_pos: m.pose(),
             set_velo: MoverVector {
                 x: xy.vel.x,

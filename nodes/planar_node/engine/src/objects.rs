@@ -4,7 +4,9 @@ use crate::config::{MoverConfig, PartPositionConfig};
 use crate::geometry::{ConvexPolygon, V2};
 use crate::motion::{Axis1, Kin2, PathPlan};
 use crate::state::PlanarStateMachine;
-use crate::types::{CCoordinateMode, CommandMode, ExternalSetpointMode, MoverVector};
+use crate::types::{
+    CCoordinateMode, CommandMode, ExternalSetpointMode, MoverVector, PlanarObjectInfo,
+};
 use motion_core::{CmdId, ErrorId};
 use std::collections::BTreeMap;
 
@@ -44,6 +46,8 @@ pub(crate) struct Mover {
     pub oid: u32,
     pub cfg: MoverConfig,
     pub sm: PlanarStateMachine,
+    /// `objectInfo` of the mover's last E_COLLISION stop (§6.1): the blocking object.
+    pub object_info: PlanarObjectInfo,
     /// Command mode while enabled.
     pub mode: CommandMode,
     /// Coordinate system the mover is in.

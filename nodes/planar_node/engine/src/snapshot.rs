@@ -72,6 +72,8 @@ pub struct MoverSnapshot {
     pub external_setpoint_mode: ExternalSetpointMode,
     /// `STD.WarningId` (W_DYNAMICS_REDUCED after a clamped command).
     pub warning_id: ErrorId,
+    /// `objectInfo` of the mover's last E_COLLISION stop: the blocking object (§6.1).
+    pub object_info: PlanarObjectInfo,
     /// `SET.SetPos` = `ACT.ActPos` (ideal tracking) in the mover's CS.
     pub set_pos: MoverVector,
     /// `SET.SetVelo`.

@@ -265,6 +265,14 @@ fn esg_into_a_standing_mover_is_stopped() {
         Some(CommandState::Error(errors::E_COLLISION))
     );
     assert_eq!(s.eng.last_object_info().id, s.mover("N").oid);
+    // The stopped mover's own objectInfo names the blocker (the action result reads it).
+    assert_eq!(
+        s.mover("M").object_info,
+        PlanarObjectInfo {
+            object_type: PlanarObjectType::Mover,
+            id: s.mover("N").oid
+        }
+    );
     s.run_until(1.0, |p| p.mover("M").unwrap().state == PlanarState::Error);
     let (m, n) = (s.mover("M"), s.mover("N"));
     assert!(n.set_pos.x - m.set_pos.x >= 155.0 - 1e-6);

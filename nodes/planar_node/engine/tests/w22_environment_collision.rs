@@ -33,6 +33,14 @@ fn w22_environment_collision() {
     assert_eq!(info.object_type, PlanarObjectType::Environment);
     assert_eq!(info.object_type as u32, 304);
     assert_eq!(info.id, s.snap().environment.oid);
+    // The rejection itself carries objectInfo (the FB's outputs at the edge).
+    assert_eq!(
+        e.object,
+        Some(motion_core::ObjectRef {
+            kind: 304,
+            id: s.snap().environment.oid
+        })
+    );
     s.steps(50);
     assert_pos(&s.mover("M"), 0.0, 0.0);
     // Without the environment in the group the boundary is not checked.

@@ -53,9 +53,17 @@ impl Engine for Trivial {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let smoke = args.iter().any(|a| a == "--smoke");
-    let all = !args
-        .iter()
-        .any(|a| ["runtime", "roundtrip", "axis", "planar", "pickplace", "ruckig"].contains(&a.as_str()));
+    let all = !args.iter().any(|a| {
+        [
+            "runtime",
+            "roundtrip",
+            "axis",
+            "planar",
+            "pickplace",
+            "ruckig",
+        ]
+        .contains(&a.as_str())
+    });
     if all || args.iter().any(|a| a == "runtime") {
         let secs = if smoke { 2.0 } else { 60.0 };
         bare_sleep_reference(secs);

@@ -5,8 +5,7 @@
 
 use motion_core::{Engine, Tick};
 use pickplace_engine::{
-    BeltConfig, ConveyorBeltPar, PickPlaceCommand, PickPlaceConfig, PickPlaceEngine, ScPar,
-    TmState,
+    BeltConfig, ConveyorBeltPar, PickPlaceCommand, PickPlaceConfig, PickPlaceEngine, ScPar, TmState,
 };
 use std::time::Instant;
 
@@ -51,7 +50,8 @@ fn cell(path_prep_cycles: u32) -> PickPlaceEngine {
     cfg.belts.insert("1".into(), belt(500.0, 50.0, 0.2));
     cfg.belts.insert("2".into(), belt(-500.0, 40.0, 0.1));
     let mut e = PickPlaceEngine::new(cfg).expect("cell config");
-    e.command(PickPlaceCommand::SetEnable(true)).expect("enable");
+    e.command(PickPlaceCommand::SetEnable(true))
+        .expect("enable");
     e.command(PickPlaceCommand::SetRegulatorOn(true))
         .expect("regulator");
     e

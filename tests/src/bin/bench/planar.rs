@@ -63,7 +63,7 @@ pub fn step_cost(counts: &[usize], steps: u64) {
         while samples < steps {
             // A new leg whenever the previous one ended (about every 250 cycles).
             if k.is_multiple_of(250) {
-                let out = (k / 250) % 2 == 0;
+                let out = (k / 250).is_multiple_of(2);
                 for (i, m) in cfg.movers.iter().enumerate() {
                     let (x, y) = (m.initial_pose.x, m.initial_pose.y);
                     let d = if out { 60.0 } else { 0.0 };
