@@ -171,6 +171,19 @@ fn axis_step_cost(counts: &[usize], steps: u64) {
     }
 }
 
+/// One 1 ms cycle of an engine; its command events are dropped.
+fn step<E: Engine>(e: &mut E, tick: &mut u64, ev: &mut Vec<CommandEvent>) {
+    e.step(
+        Tick {
+            index: *tick,
+            dt: 0.001,
+        },
+        ev,
+    );
+    ev.clear();
+    *tick += 1;
+}
+
 /// Reference for the step benchmarks: seconds per evaluation of one planned jerk-limited
 /// profile, `n` profiles per step (the floor of any set-point generator).
 fn profile_floor(n: usize, steps: u64) -> f64 {

@@ -2,7 +2,8 @@
 //! (issue 4: ≤ 500 µs per step at 500 movers). Reference: evaluating three planned profiles
 //! (X, Y, C) per mover and step, the floor of any jerk-limited planar set-point generator.
 
-use motion_core::{Engine, Tick};
+use super::step;
+use motion_core::Engine;
 use planar_engine::{
     DynamicConstraint, GroupConfig, MoveToPositionOptions, MoverConfig, PlanarCommand,
     PlanarConfig, PlanarEngine, PositionXYC,
@@ -29,18 +30,6 @@ fn grid(n: usize) -> PlanarConfig {
         enable_time: 0.0,
         ..Default::default()
     }
-}
-
-fn step(e: &mut PlanarEngine, tick: &mut u64, ev: &mut Vec<motion_core::CommandEvent>) {
-    e.step(
-        Tick {
-            index: *tick,
-            dt: 0.001,
-        },
-        ev,
-    );
-    ev.clear();
-    *tick += 1;
 }
 
 /// Every mover shuttles 60 mm within its cell of the grid (even: along X, odd: along Y),
