@@ -1,0 +1,229 @@
+//! Test rig for Part 4 groups and the platform profile (plcopen_platform.md): an engine with
+//! axes x, y, z, stepping by hand at 1 ms, helpers for group and platform calls.
+#![allow(dead_code)]
+
+use axis_engine::group::*;
+use axis_engine::platform::*;
+use axis_engine::*;
+use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, ExecuteOutputs, Rejection, Tick};
+
+pub const DT: f64 = 0.001;
+pub const G: &str = "g";
+
+pub struct P4 {
+    pub e: AxisEngine,
+    pub events: Vec<CommandEvent>,
+    pub log: Vec<(u64, CommandEvent)>,
+    pub tick: u64,
+}
+
+/// Axis config: ideal following, no lag monitoring surprises.
+pub fn axis_cfg() -> AxisConfig {
+    AxisConfig {
+        cycle_time: DT,
+        ..AxisConfig::default()
+    }
+}
+
+impl P4 {
+    pub fn build(axes: Vec<(String, AxisConfig)>, cfg: EngineConfig) -> Self {
+        P4 {
+            e: AxisEngine::with_config(axes, &cfg).unwrap_or_else(|r| panic!("config: {r}")),
+            events: Vec::new(),
+            log: Vec::new(),
+            tick: 0,
+        }
+    }
+
+    /// Axes x, y, z (defaults); group "g" = [x, y]; `tc2_mc2`.
+    pub fn xy() -> Self {
+        let cfg = EngineConfig {
+            groups: vec![GroupConfig {
+                name: G.into(),
+                axes: vec!["x".into(), "y".into()],
+            }],
+            ..EngineConfig::default()
+        };
+        P4::build(
+            ["x", "y", "z"].iter().map(|n| (n.to_string(), axis_cfg())).collect(),
+            cfg,
+        )
+    }
+
+    /// `xy()` with all axes powered: the group is GroupStandby.
+    pub fn xy_powered() -> Self {
+        let mut r = P4::xy();
+        for a in ["x", "y", "z"] {
+            r.power(a, true);
+        }
+        r.step();
+        assert_eq!(r.gs().state, GroupState::Standby);
+        r
+    }
+
+    pub fn power(&mut self, axis: &str, enable: bool) -> Result<AxisReply, Rejection> {
+        self.e.command(AxisCommand::Power(Power {
+            axis: axis.into(),
+            enable,
+            enable_positive: true,
+            enable_negative: true,
+            override_percent: 100.0,
+            buffer_mode: BufferMode::Aborting,
+        }))
+    }
+
+    pub fn cmd(&mut self, c: AxisCommand) -> Result<AxisReply, Rejection> {
+        self.e.command(c)
+    }
+
+    pub fn g(&mut self, c: GroupCommand) -> Result<AxisReply, Rejection> {
+        self.e.command(AxisCommand::Group(c))
+    }
+
+    pub fn gid(&mut self, c: GroupCommand) -> CmdId {
+        self.g(c).unwrap_or_else(|r| panic!("rejected: {r}")).id
+    }
+
+    pub fn p(&mut self, c: PlatformCommand) -> Result<AxisReply, Rejection> {
+        self.e.command(AxisCommand::Platform(c))
+    }
+
+    pub fn id(&mut self, c: AxisCommand) -> CmdId {
+        self.cmd(c).unwrap_or_else(|r| panic!("rejected: {r}")).id
+    }
+
+    pub fn step(&mut self) {
+        let t = Tick {
+            index: self.tick,
+            dt: DT,
+        };
+        self.e.step(t, &mut self.events);
+        for ev in self.events.drain(..) {
+            self.log.push((self.tick, ev));
+        }
+        self.tick += 1;
+    }
+
+    pub fn steps(&mut self, n: usize) {
+        for _ in 0..n {
+            self.step();
+        }
+    }
+
+    /// Steps until `f` holds; returns the steps taken. Panics after `max`.
+    pub fn until(&mut self, max: usize, mut f: impl FnMut(&P4) -> bool) -> usize {
+        for n in 0..max {
+            if f(self) {
+                return n;
+            }
+            self.step();
+        }
+        panic!("condition not reached within {max} steps; group {:?}", self.e.group(G));
+    }
+
+    pub fn gs(&self) -> GroupStatus {
+        self.e.group(G).unwrap()
+    }
+
+    pub fn ax(&self, a: &str) -> AxisStatus {
+        self.e.status(a).unwrap()
+    }
+
+    pub fn out(&self, id: CmdId) -> ExecuteOutputs {
+        self.e.outputs(id).expect("known instance")
+    }
+
+    pub fn when(&self, id: CmdId, state: CommandState) -> Option<u64> {
+        self.log
+            .iter()
+            .find(|(_, e)| e.id == id && e.state == state)
+            .map(|(t, _)| *t)
+    }
+
+    pub fn set_execute(&mut self, id: CmdId, execute: bool) {
+        self.cmd(AxisCommand::SetExecute { id, execute }).unwrap();
+    }
+}
+
+pub fn lin(position: Vec<f64>, velocity: f64) -> MoveLinear {
+    MoveLinear {
+        group: G.into(),
+        position,
+        velocity,
+        acceleration: 0.0,
+        deceleration: 0.0,
+        jerk: 0.0,
+        coord_system: CoordSystem::Acs,
+        buffer_mode: BufferMode::Aborting,
+        transition_mode: TransitionMode::None,
+    }
+}
+
+pub fn lin_abs(position: Vec<f64>, velocity: f64) -> GroupCommand {
+    GroupCommand::MoveLinearAbsolute(lin(position, velocity))
+}
+
+pub fn lin_rel(distance: Vec<f64>, velocity: f64) -> GroupCommand {
+    GroupCommand::MoveLinearRelative(lin(distance, velocity))
+}
+
+pub fn ghalt() -> GroupCommand {
+    GroupCommand::GroupHalt(GroupHalt {
+        group: G.into(),
+        deceleration: 0.0,
+        jerk: 0.0,
+        buffer_mode: BufferMode::Aborting,
+    })
+}
+
+pub fn gstop() -> GroupCommand {
+    GroupCommand::GroupStop(GroupStop {
+        group: G.into(),
+        deceleration: 0.0,
+        jerk: 0.0,
+    })
+}
+
+pub fn greset() -> GroupCommand {
+    GroupCommand::GroupReset { group: G.into() }
+}
+
+pub fn rel(axis: &str, distance: f64, velocity: f64) -> AxisCommand {
+    AxisCommand::MoveRelative(MoveRelative {
+        axis: axis.into(),
+        distance,
+        velocity,
+        acceleration: 0.0,
+        deceleration: 0.0,
+        jerk: 0.0,
+        buffer_mode: BufferMode::Aborting,
+        options: MoveOptions::default(),
+    })
+}
+
+pub fn abs(axis: &str, position: f64, velocity: f64) -> AxisCommand {
+    AxisCommand::MoveAbsolute(MoveAbsolute {
+        axis: axis.into(),
+        position,
+        velocity,
+        acceleration: 0.0,
+        deceleration: 0.0,
+        jerk: 0.0,
+        buffer_mode: BufferMode::Aborting,
+        options: MoveOptions::default(),
+    })
+}
+
+pub fn inject(axis: &str) -> AxisCommand {
+    AxisCommand::Sim(Sim::InjectAxisError {
+        axis: axis.into(),
+        error_id: 0x4550,
+    })
+}
+
+pub fn err(r: Result<AxisReply, Rejection>) -> ErrorId {
+    match r {
+        Err(r) => r.error_id,
+        Ok(_) => panic!("expected a rejection"),
+    }
+}
