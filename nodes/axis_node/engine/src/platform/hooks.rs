@@ -203,6 +203,14 @@ impl AxisEngine {
                     ),
                 ));
             }
+            // §7.2: instances of an axis in ERROR_STOP show ErrorID 1 (E6: also an enabled
+            // MC_ReadActualPosition).
+            if matches!(cmd, AxisCommand::ReadActualPosition(_)) && !self.axes[ax].error_id.is_none() {
+                return Err(reject(
+                    ERR_PLC_AX_MC,
+                    format!("axis '{name}': in ERROR_STOP (MC error {})", self.axes[ax].error_id.0),
+                ));
+            }
             force_aborting(cmd);
         }
         if self.platform.safety() {

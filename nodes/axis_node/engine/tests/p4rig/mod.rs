@@ -227,3 +227,122 @@ pub fn err(r: Result<AxisReply, Rejection>) -> ErrorId {
         Ok(_) => panic!("expected a rejection"),
     }
 }
+
+/// The axis of the worked examples (§13): linear axis 0, µm units.
+pub const A0: &str = "a0";
+
+/// Axis 0 of §13: 1 ms, ideal following, limits far above the examples, Done without
+/// settling time (so the timing of the profile is visible).
+pub fn a0_cfg() -> AxisConfig {
+    AxisConfig {
+        cycle_time: DT,
+        max_velocity: 1e6,
+        acceleration: 1e6,
+        deceleration: 1e6,
+        jerk: 1e8,
+        fast_acceleration: 5e6,
+        fast_deceleration: 5e6,
+        fast_jerk: 1e9,
+        en_target_position_monitoring: false,
+        en_position_range_monitoring: false,
+        max_pos_lag_value: 1e3,
+        ..AxisConfig::default()
+    }
+}
+
+impl P4 {
+    /// `isg_mcp` with axis 0 only, platform config `pc`; not stepped (start-up pending).
+    pub fn isg_cold(pc: PlatformConfig) -> Self {
+        let cfg = EngineConfig {
+            platform_profile: PlatformProfile::IsgMcp,
+            platform: pc,
+            ..EngineConfig::default()
+        };
+        P4::build(vec![(A0.into(), a0_cfg())], cfg)
+    }
+
+    /// `isg_mcp`, start-up done (10 cycles), axis 0 powered: STANDSTILL.
+    pub fn isg_with(pc: PlatformConfig) -> Self {
+        let mut r = P4::isg_cold(pc);
+        r.steps(10);
+        r.power(A0, true).unwrap();
+        r.step();
+        assert_eq!(r.ax(A0).motion_state, MotionState::Standstill);
+        r
+    }
+
+    /// `isg_mcp` with default platform settings, ready.
+    pub fn isg() -> Self {
+        P4::isg_with(PlatformConfig::default())
+    }
+
+    pub fn a0(&self) -> AxisStatus {
+        self.ax(A0)
+    }
+
+    pub fn order_id(&mut self, id: CmdId) -> u32 {
+        match self.p(PlatformCommand::ReadOrderId { id }).unwrap().value {
+            ReplyValue::Platform(PlatformReply::OrderId(o)) => o,
+            v => panic!("{v:?}"),
+        }
+    }
+
+    pub fn g_order_id(&self) -> u32 {
+        motion_core::Engine::snapshot(&self.e).platform.g_order_id
+    }
+
+    pub fn messages(&mut self, axis: &str) -> Vec<McMessage> {
+        match self
+            .p(PlatformCommand::ReadMessages { axis: axis.into() })
+            .unwrap()
+            .value
+        {
+            ReplyValue::Platform(PlatformReply::Messages(m)) => m,
+            v => panic!("{v:?}"),
+        }
+    }
+
+    pub fn safety(&self, axis: &str) -> AxisSafetyStatus {
+        motion_core::Engine::snapshot(&self.e)
+            .platform
+            .axes
+            .into_iter()
+            .find(|a| a.name == axis)
+            .unwrap()
+    }
+}
+
+pub fn rel_full(axis: &str, distance: f64, v: f64, a: f64, d: f64, j: f64) -> AxisCommand {
+    AxisCommand::MoveRelative(MoveRelative {
+        axis: axis.into(),
+        distance,
+        velocity: v,
+        acceleration: a,
+        deceleration: d,
+        jerk: j,
+        buffer_mode: BufferMode::Aborting,
+        options: MoveOptions::default(),
+    })
+}
+
+pub fn stop(axis: &str, deceleration: f64) -> AxisCommand {
+    AxisCommand::Stop(Stop {
+        axis: axis.into(),
+        deceleration,
+        jerk: 0.0,
+        options: MoveOptions::default(),
+    })
+}
+
+pub fn vel(axis: &str, velocity: f64) -> AxisCommand {
+    AxisCommand::MoveVelocity(MoveVelocity {
+        axis: axis.into(),
+        velocity,
+        acceleration: 0.0,
+        deceleration: 0.0,
+        jerk: 0.0,
+        direction: Direction::Positive,
+        buffer_mode: BufferMode::Aborting,
+        options: MoveOptions::default(),
+    })
+}
