@@ -54,7 +54,7 @@ impl P4 {
     pub fn xy_powered() -> Self {
         let mut r = P4::xy();
         for a in ["x", "y", "z"] {
-            r.power(a, true);
+            r.power(a, true).unwrap();
         }
         r.step();
         assert_eq!(r.gs().state, GroupState::Standby);
