@@ -58,7 +58,7 @@ pub use command::*;
 pub use config::{AxisConfig, FollowingModel};
 pub use engine::{AxisEngine, PowerOutputs};
 pub use group::{GroupCommand, GroupConfig, GroupReply, GroupState, GroupStatus};
-pub use platform::{EngineConfig, PlatformCommand, PlatformProfile};
 pub use handshake::{FbKind, FbOutputs};
+pub use platform::{EngineConfig, PlatformCommand, PlatformProfile};
 pub use snapshot::{AxisSnapshot, AxisStatus};
 pub use state::MotionState;

@@ -12,7 +12,9 @@ fn e1_hello_world() {
     assert!(s.drive_enabled, "DriveEnabled after MC_Power");
     assert_eq!(r.a0().motion_state, MotionState::Standstill);
     let start = match r
-        .cmd(AxisCommand::ReadActualPosition(ReadActualPosition { axis: A0.into() }))
+        .cmd(AxisCommand::ReadActualPosition(ReadActualPosition {
+            axis: A0.into(),
+        }))
         .unwrap()
         .value
     {
@@ -23,10 +25,16 @@ fn e1_hello_world() {
     assert_eq!(r.a0().motion_state, MotionState::DiscreteMotion);
     let n = r.until(20000, |r| r.out(id).done);
     let t = n as f64 * DT;
-    assert!(t >= 16.0 - 1e-9 && t <= 16.0 + 2.0 * DT + 1e-9, "motion time {t} s");
+    assert!(
+        (16.0 - 1e-9..=16.0 + 2.0 * DT + 1e-9).contains(&t),
+        "motion time {t} s"
+    );
     assert!((r.a0().act_pos - (start + 100000.0)).abs() <= 1.0);
     assert_eq!(r.a0().motion_state, MotionState::Standstill);
-    assert!(r.e.status(A0).unwrap().error_code == 0, "10 mm/s < 250 mm/s: no 60241");
+    assert!(
+        r.e.status(A0).unwrap().error_code == 0,
+        "10 mm/s < 250 mm/s: no 60241"
+    );
     // Done stays TRUE until Execute falls.
     r.steps(500);
     assert!(r.out(id).done);

@@ -11,12 +11,24 @@ use p4rig::*;
 fn e2_order_during_startup() {
     let mut r = P4::isg_cold(PlatformConfig::default());
     assert_eq!(err(r.cmd(rel(A0, 1000.0, 10000.0))), ErrorId(4013));
-    assert_eq!(err(r.power(A0, true)), ErrorId(4013), "MC_Power is an order too");
+    assert_eq!(
+        err(r.power(A0, true)),
+        ErrorId(4013),
+        "MC_Power is an order too"
+    );
     for c in 0..10 {
         let snap = motion_core::Engine::snapshot(&r.e);
-        assert_eq!(snap.axes[0].motion_state, MotionState::Undefined, "INIT_STATE in cycle {c}");
+        assert_eq!(
+            snap.axes[0].motion_state,
+            MotionState::Undefined,
+            "INIT_STATE in cycle {c}"
+        );
         assert!(!snap.platform.hli_initialized);
-        assert_eq!(err(r.cmd(rel(A0, 1000.0, 10000.0))), ErrorId(4013), "cycle {c}");
+        assert_eq!(
+            err(r.cmd(rel(A0, 1000.0, 10000.0))),
+            ErrorId(4013),
+            "cycle {c}"
+        );
         r.step();
     }
     let snap = motion_core::Engine::snapshot(&r.e);

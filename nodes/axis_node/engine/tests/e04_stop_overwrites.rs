@@ -17,7 +17,11 @@ fn e4_stop_overwrites_the_order_of_the_cycle() {
     r.until(100, |r| r.out(s).done);
     r.steps(50);
     assert_eq!(r.a0().set_pos, 0.0, "no motion");
-    assert_eq!(r.a0().motion_state, MotionState::Stopping, "Execute still TRUE");
+    assert_eq!(
+        r.a0().motion_state,
+        MotionState::Stopping,
+        "Execute still TRUE"
+    );
     assert_eq!(err(r.cmd(rel(A0, 1000.0, 10000.0))), ErrorId(4901));
     assert_eq!(r.a0().motion_state, MotionState::Stopping);
     r.set_execute(s, false);

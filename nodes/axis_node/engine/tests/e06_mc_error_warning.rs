@@ -25,14 +25,21 @@ fn e6_warning_then_error() {
     r.steps(500);
     r.p(msg(12345, 0, 0)).unwrap();
     r.step();
-    assert_eq!(r.a0().motion_state, MotionState::DiscreteMotion, "warning: no state change");
+    assert_eq!(
+        r.a0().motion_state,
+        MotionState::DiscreteMotion,
+        "warning: no state change"
+    );
     assert!(r.out(m).busy && !r.out(m).error);
     assert_eq!(r.messages(A0).len(), 1);
     let v_before = r.a0().set_velo;
     r.p(msg(23456, 2, 1)).unwrap();
     r.step();
     assert_eq!(r.a0().motion_state, MotionState::ErrorStop);
-    assert!(r.a0().set_velo < v_before && r.a0().set_velo > 0.0, "decelerates");
+    assert!(
+        r.a0().set_velo < v_before && r.a0().set_velo > 0.0,
+        "decelerates"
+    );
     assert!(r.out(m).error);
     assert_eq!(r.out(m).error_id, ErrorId(1), "ERR_PLC_AX_MC");
     assert!(r
@@ -40,11 +47,15 @@ fn e6_warning_then_error() {
         .iter()
         .any(|(_, e)| e.id == m && e.state == CommandState::Error(ErrorId(1))));
     assert_eq!(
-        err(r.cmd(AxisCommand::ReadActualPosition(ReadActualPosition { axis: A0.into() }))),
+        err(r.cmd(AxisCommand::ReadActualPosition(ReadActualPosition {
+            axis: A0.into()
+        }))),
         ErrorId(1)
     );
     let e = r
-        .cmd(AxisCommand::ReadAxisError(ReadAxisError { axis: A0.into() }))
+        .cmd(AxisCommand::ReadAxisError(ReadAxisError {
+            axis: A0.into(),
+        }))
         .unwrap()
         .value;
     assert_eq!(e, ReplyValue::DWord(23456));
@@ -57,7 +68,8 @@ fn e6_warning_then_error() {
     assert_eq!(err(r.cmd(rel(A0, 1000.0, 10000.0))), ErrorId(4901));
     assert_eq!(r.a0().motion_state, MotionState::ErrorStop);
     r.until(5000, |r| r.a0().set_velo == 0.0);
-    r.cmd(AxisCommand::Reset(Reset { axis: A0.into() })).unwrap();
+    r.cmd(AxisCommand::Reset(Reset { axis: A0.into() }))
+        .unwrap();
     r.steps(2);
     assert_eq!(r.a0().motion_state, MotionState::Standstill);
     assert!(r.messages(A0).is_empty(), "buffer cleared by MC_Reset");

@@ -30,7 +30,11 @@ fn e9_absolute_refused_relative_and_velocity_reduced() {
     assert_eq!(r.a0().motion_state, MotionState::Standstill);
     let v = r.id(vel(A0, 100000.0));
     r.until(1000, |r| r.e.fb_outputs(v).unwrap().in_velocity);
-    assert!((r.a0().set_velo - 20000.0).abs() < 1e-6, "{}", r.a0().set_velo);
+    assert!(
+        (r.a0().set_velo - 20000.0).abs() < 1e-6,
+        "{}",
+        r.a0().set_velo
+    );
     r.step();
     let m = r.id(rel(A0, 40000.0, 100000.0));
     let mut vmax: f64 = 0.0;

@@ -22,8 +22,16 @@ fn start(r: &mut P4, pressed: bool) {
 fn e10_feed_hold_and_continue() {
     let mut r = P4::isg();
     mode(&mut r, OperatingMode::T1);
-    assert_eq!(r.a0().motion_state, MotionState::Disabled, "drive enables removed");
-    assert_eq!(err(r.cmd(rel(A0, 100000.0, 100000.0))), ErrorId(4901), "no enabling switch");
+    assert_eq!(
+        r.a0().motion_state,
+        MotionState::Disabled,
+        "drive enables removed"
+    );
+    assert_eq!(
+        err(r.cmd(rel(A0, 100000.0, 100000.0))),
+        ErrorId(4901),
+        "no enabling switch"
+    );
     switch(&mut r, true);
     r.power(A0, true).unwrap();
     r.steps(2);
@@ -38,7 +46,10 @@ fn e10_feed_hold_and_continue() {
     r.steps(100);
     let held = r.a0().set_pos;
     assert!(held < 100000.0);
-    assert!(r.out(id).busy && !r.out(id).command_aborted, "feed hold: still active");
+    assert!(
+        r.out(id).busy && !r.out(id).command_aborted,
+        "feed hold: still active"
+    );
     assert!(r.safety(A0).feed_hold);
     start(&mut r, true);
     r.until(10000, |r| r.out(id).done);

@@ -19,7 +19,12 @@ fn unknown_group_and_unknown_axis() {
     let mut c = lin(vec![1.0, 1.0], 10.0);
     c.group = "nope".into();
     assert_eq!(err(r.g(GroupCommand::MoveLinearAbsolute(c))), UNKNOWN);
-    assert_eq!(err(r.g(GroupCommand::GroupReadStatus { group: "nope".into() })), UNKNOWN);
+    assert_eq!(
+        err(r.g(GroupCommand::GroupReadStatus {
+            group: "nope".into()
+        })),
+        UNKNOWN
+    );
     let add = |axis: &str| {
         GroupCommand::AddAxisToGroup(AddAxisToGroup {
             group: G.into(),
@@ -64,7 +69,10 @@ fn axis_already_in_a_group_and_duplicate_ident() {
 fn nan_and_infinite_inputs() {
     let mut r = P4::xy_powered();
     assert_eq!(err(r.g(lin_abs(vec![f64::NAN, 1.0], 10.0))), NOT_FINITE);
-    assert_eq!(err(r.g(lin_rel(vec![1.0, f64::INFINITY], 10.0))), NOT_FINITE);
+    assert_eq!(
+        err(r.g(lin_rel(vec![1.0, f64::INFINITY], 10.0))),
+        NOT_FINITE
+    );
     assert_eq!(err(r.g(lin_abs(vec![1.0, 1.0], f64::NAN))), NOT_FINITE);
     let mut c = lin(vec![1.0, 1.0], 10.0);
     c.jerk = f64::NEG_INFINITY;
@@ -101,9 +109,17 @@ fn nan_and_infinite_inputs() {
 #[test]
 fn out_of_range_values() {
     let mut r = P4::xy_powered();
-    assert_eq!(err(r.g(lin_abs(vec![1.0, 1.0], 0.0))), INVALID, "Velocity 0");
+    assert_eq!(
+        err(r.g(lin_abs(vec![1.0, 1.0], 0.0))),
+        INVALID,
+        "Velocity 0"
+    );
     assert_eq!(err(r.g(lin_abs(vec![1.0, 1.0], -5.0))), INVALID);
-    assert_eq!(err(r.g(lin_abs(vec![1.0], 10.0))), INVALID, "one value for two axes");
+    assert_eq!(
+        err(r.g(lin_abs(vec![1.0], 10.0))),
+        INVALID,
+        "one value for two axes"
+    );
     let mut c = lin(vec![1.0, 1.0], 10.0);
     c.acceleration = -1.0;
     assert_eq!(err(r.g(GroupCommand::MoveLinearAbsolute(c))), INVALID);
@@ -170,7 +186,12 @@ fn not_implemented_modes_and_fbs_give_4905() {
     let mut c = lin(vec![1.0, 1.0], 10.0);
     c.transition_mode = TransitionMode::CornerDistance;
     assert_eq!(err(r.g(GroupCommand::MoveLinearAbsolute(c))), NOT_IMPL);
-    for fb in ["MC_GroupHome", "MC_GroupEnable", "MC_MoveCircularAbsolute", "MC_GroupInterrupt"] {
+    for fb in [
+        "MC_GroupHome",
+        "MC_GroupEnable",
+        "MC_MoveCircularAbsolute",
+        "MC_GroupInterrupt",
+    ] {
         assert_eq!(
             err(r.g(GroupCommand::NotImplemented {
                 group: G.into(),
@@ -193,7 +214,12 @@ fn engine_config_is_screened() {
         }],
         ..EngineConfig::default()
     };
-    assert_eq!(AxisEngine::with_config(axes(), &bad_axis).unwrap_err().error_id, UNKNOWN);
+    assert_eq!(
+        AxisEngine::with_config(axes(), &bad_axis)
+            .unwrap_err()
+            .error_id,
+        UNKNOWN
+    );
     let twice = EngineConfig {
         groups: vec![
             GroupConfig {
@@ -207,7 +233,12 @@ fn engine_config_is_screened() {
         ],
         ..EngineConfig::default()
     };
-    assert_eq!(AxisEngine::with_config(axes(), &twice).unwrap_err().error_id, INVALID);
+    assert_eq!(
+        AxisEngine::with_config(axes(), &twice)
+            .unwrap_err()
+            .error_id,
+        INVALID
+    );
     let dup = EngineConfig {
         groups: vec![
             GroupConfig {
@@ -232,8 +263,13 @@ fn engine_config_is_screened() {
     assert_eq!(d.platform_profile, PlatformProfile::Tc2Mc2);
     assert!(serde_json::from_str::<EngineConfig>(r#"{"platform_profil": "isg_mcp"}"#).is_err());
     assert!(serde_json::from_str::<EngineConfig>(r#"{"platform_profile": "tc3"}"#).is_err());
-    assert!(serde_json::from_str::<EngineConfig>(r#"{"groups": [{"name": "g", "axis": []}]}"#).is_err());
-    assert!(serde_json::from_str::<EngineConfig>(r#"{"platform": {"axes": {"x": {"unit": 1}}}}"#).is_err());
+    assert!(
+        serde_json::from_str::<EngineConfig>(r#"{"groups": [{"name": "g", "axis": []}]}"#).is_err()
+    );
+    assert!(
+        serde_json::from_str::<EngineConfig>(r#"{"platform": {"axes": {"x": {"unit": 1}}}}"#)
+            .is_err()
+    );
     let bad_num = EngineConfig {
         platform: PlatformConfig {
             axes: [(
@@ -248,7 +284,12 @@ fn engine_config_is_screened() {
         },
         ..EngineConfig::default()
     };
-    assert_eq!(AxisEngine::with_config(axes(), &bad_num).unwrap_err().error_id, NOT_FINITE);
+    assert_eq!(
+        AxisEngine::with_config(axes(), &bad_num)
+            .unwrap_err()
+            .error_id,
+        NOT_FINITE
+    );
 }
 
 #[test]

@@ -52,9 +52,17 @@ fn rest_to_rest_time_follows_the_profile_formula() {
     let id = r.gid(GroupCommand::MoveLinearAbsolute(c));
     let (px, py, n) = run_tracking(&mut r, id, 20000);
     let t = n as f64 * DT;
-    assert!((t - 5.6).abs() <= 2.0 * DT, "motion time {t} s, expected 5.6 s");
+    assert!(
+        (t - 5.6).abs() <= 2.0 * DT,
+        "motion time {t} s, expected 5.6 s"
+    );
     // Path velocity 100 split 0.6 / 0.8.
-    assert!((px.v - 60.0).abs() < 1e-6 && (py.v - 80.0).abs() < 1e-6, "{} {}", px.v, py.v);
+    assert!(
+        (px.v - 60.0).abs() < 1e-6 && (py.v - 80.0).abs() < 1e-6,
+        "{} {}",
+        px.v,
+        py.v
+    );
     assert!((py.a - 160.0).abs() < 1e-3, "path a 200 × 0.8: {}", py.a);
 }
 
@@ -66,9 +74,17 @@ fn no_member_exceeds_its_own_limits() {
     let (px, py, _) = run_tracking(&mut r, id, 100000);
     let c = AxisConfig::default();
     let tol = 1e-6;
-    assert!(py.v <= c.max_velocity + tol && py.v > c.max_velocity - 1e-3, "y velocity {}", py.v);
+    assert!(
+        py.v <= c.max_velocity + tol && py.v > c.max_velocity - 1e-3,
+        "y velocity {}",
+        py.v
+    );
     assert!(px.v <= c.max_velocity * 0.75 + tol, "x velocity {}", px.v);
-    assert!(py.a <= c.acceleration + tol && py.a > 0.99 * c.acceleration, "y acc {}", py.a);
+    assert!(
+        py.a <= c.acceleration + tol && py.a > 0.99 * c.acceleration,
+        "y acc {}",
+        py.a
+    );
     assert!(px.a <= c.acceleration + tol);
 }
 
@@ -87,7 +103,11 @@ fn per_axis_limits_bind_the_path_for_different_axes() {
         ..axis_cfg()
     };
     let mut r = P4::build(
-        vec![("x".into(), axis_cfg()), ("y".into(), slow), ("z".into(), axis_cfg())],
+        vec![
+            ("x".into(), axis_cfg()),
+            ("y".into(), slow),
+            ("z".into(), axis_cfg()),
+        ],
         cfg,
     );
     for a in ["x", "y"] {
@@ -133,7 +153,10 @@ fn parallel_takeover_keeps_moving_without_stop() {
         }
         r.out(b).done || r.ax("x").set_pos > 500.0
     });
-    assert!(vmin > 150.0, "no stop at the takeover: min path velocity {vmin}");
+    assert!(
+        vmin > 150.0,
+        "no stop at the takeover: min path velocity {vmin}"
+    );
 }
 
 #[test]
@@ -144,7 +167,11 @@ fn corner_takeover_stops_path_true_then_moves_within_limits() {
     let b = r.gid(lin_abs(vec![0.0, 500.0], 500.0));
     let (px, py, _) = run_tracking(&mut r, b, 100000);
     let c = AxisConfig::default();
-    assert!(px.a <= c.acceleration.max(c.deceleration) + 1e-6, "x acc {}", px.a);
+    assert!(
+        px.a <= c.acceleration.max(c.deceleration) + 1e-6,
+        "x acc {}",
+        px.a
+    );
     assert!(py.v <= c.max_velocity + 1e-6);
     assert_eq!((r.ax("x").set_pos, r.ax("y").set_pos), (0.0, 500.0));
 }
@@ -154,13 +181,19 @@ fn single_axis_motion_on_a_member_is_refused_while_the_group_moves() {
     let mut r = P4::xy_powered();
     r.gid(lin_abs(vec![300.0, 400.0], 200.0));
     r.step();
-    assert_eq!(err(r.cmd(rel("x", 1.0, 10.0))), ErrorId(0x4B01), "tc2_mc2 id");
+    assert_eq!(
+        err(r.cmd(rel("x", 1.0, 10.0))),
+        ErrorId(0x4B01),
+        "tc2_mc2 id"
+    );
     assert_eq!(err(r.cmd(abs("y", 1.0, 10.0))), ErrorId(0x4B01));
     // A non-member is free.
     r.id(rel("z", 1.0, 10.0));
     // Reads on members work.
-    r.cmd(AxisCommand::ReadActualPosition(ReadActualPosition { axis: "x".into() }))
-        .unwrap();
+    r.cmd(AxisCommand::ReadActualPosition(ReadActualPosition {
+        axis: "x".into(),
+    }))
+    .unwrap();
 }
 
 #[test]
@@ -194,7 +227,11 @@ fn override_zero_pauses_and_one_resumes() {
     assert_eq!(r.ax("x").set_pos, held);
     r.g(ov(0.5)).unwrap();
     r.steps(2000);
-    assert!((r.gs().path_velocity - 100.0).abs() < 1e-6, "half speed: {}", r.gs().path_velocity);
+    assert!(
+        (r.gs().path_velocity - 100.0).abs() < 1e-6,
+        "half speed: {}",
+        r.gs().path_velocity
+    );
     r.until(20000, |r| r.out(id).done);
     assert_eq!((r.ax("x").set_pos, r.ax("y").set_pos), (300.0, 400.0));
 }
@@ -221,13 +258,17 @@ fn move_path_visits_every_point_at_rest() {
     r.until(50000, |r| {
         let (x, y) = (r.ax("x"), r.ax("y"));
         if visited < 3 && x.set_pos == pts[visited][0] && y.set_pos == pts[visited][1] {
-            assert_eq!((x.set_velo, y.set_velo), (0.0, 0.0), "rest at point {visited}");
+            assert_eq!(
+                (x.set_velo, y.set_velo),
+                (0.0, 0.0),
+                "rest at point {visited}"
+            );
             visited += 1;
         }
         r.out(id).done
     });
     assert_eq!(visited, 3);
-    assert_eq!(r.when(id, CommandState::Done).is_some(), true);
+    assert!(r.when(id, CommandState::Done).is_some());
 }
 
 #[test]
@@ -246,12 +287,27 @@ fn reads_status_error_positions_velocities_configuration() {
         }
         o => panic!("{o:?}"),
     }
-    match v(&mut r, GroupCommand::GroupReadActualVelocity { group: G.into(), coord_system: CoordSystem::Acs }) {
-        GroupReply::Values(vs) => assert!((vs[0] - 120.0).abs() < 1e-6 && (vs[1] - 160.0).abs() < 1e-6, "{vs:?}"),
+    match v(
+        &mut r,
+        GroupCommand::GroupReadActualVelocity {
+            group: G.into(),
+            coord_system: CoordSystem::Acs,
+        },
+    ) {
+        GroupReply::Values(vs) => assert!(
+            (vs[0] - 120.0).abs() < 1e-6 && (vs[1] - 160.0).abs() < 1e-6,
+            "{vs:?}"
+        ),
         o => panic!("{o:?}"),
     }
     r.until(20000, |r| r.out(id).done);
-    match v(&mut r, GroupCommand::GroupReadActualPosition { group: G.into(), coord_system: CoordSystem::Acs }) {
+    match v(
+        &mut r,
+        GroupCommand::GroupReadActualPosition {
+            group: G.into(),
+            coord_system: CoordSystem::Acs,
+        },
+    ) {
         GroupReply::Values(p) => assert_eq!(p, vec![300.0, 400.0]),
         o => panic!("{o:?}"),
     }
@@ -259,9 +315,18 @@ fn reads_status_error_positions_velocities_configuration() {
         GroupReply::Status(s) => assert!(s.group_standby && s.in_position && !s.group_moving),
         o => panic!("{o:?}"),
     }
-    assert_eq!(v(&mut r, GroupCommand::GroupReadError { group: G.into() }), GroupReply::Error(ErrorId::NONE));
     assert_eq!(
-        v(&mut r, GroupCommand::GroupReadConfiguration { group: G.into(), ident_in_group: 2 }),
+        v(&mut r, GroupCommand::GroupReadError { group: G.into() }),
+        GroupReply::Error(ErrorId::NONE)
+    );
+    assert_eq!(
+        v(
+            &mut r,
+            GroupCommand::GroupReadConfiguration {
+                group: G.into(),
+                ident_in_group: 2
+            }
+        ),
         GroupReply::Configuration(vec![("y".into(), 2)])
     );
     let snap = motion_core::Engine::snapshot(&r.e);

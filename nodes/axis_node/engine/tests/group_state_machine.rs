@@ -39,7 +39,11 @@ fn disabled_refuses_motion_halt_stop_with_4901() {
 fn standby_to_moving_and_back_to_standby_at_done() {
     let mut r = P4::xy_powered();
     let id = r.gid(lin_abs(vec![30.0, 40.0], 100.0));
-    assert_eq!(r.gs().state, GroupState::Moving, "state changes with the command");
+    assert_eq!(
+        r.gs().state,
+        GroupState::Moving,
+        "state changes with the command"
+    );
     assert!(r.out(id).busy && r.out(id).active);
     r.step();
     assert_eq!(r.ax("x").motion_state, MotionState::SynchronizedMotion);
@@ -134,7 +138,7 @@ fn execute_falling_before_done_releases_at_done() {
     let s = r.gid(gstop());
     r.set_execute(s, false);
     r.until(10000, |r| r.gs().state == GroupState::Standby);
-    assert_eq!(r.when(s, CommandState::Done).is_some(), true);
+    assert!(r.when(s, CommandState::Done).is_some());
 }
 
 #[test]
@@ -162,7 +166,11 @@ fn member_error_latches_error_stop_and_reset_returns_to_standby() {
     r.cmd(inject("y")).unwrap();
     r.step();
     assert_eq!(r.gs().state, GroupState::ErrorStop);
-    assert_eq!(r.out(m).error_id, ErrorId(1), "group FB: ErrorID 1 (member error)");
+    assert_eq!(
+        r.out(m).error_id,
+        ErrorId(1),
+        "group FB: ErrorID 1 (member error)"
+    );
     assert_eq!(r.gs().error_id, ErrorId(1));
     // The healthy member brakes on its own.
     r.until(10000, |r| r.ax("x").set_velo == 0.0);
@@ -170,7 +178,10 @@ fn member_error_latches_error_stop_and_reset_returns_to_standby() {
     assert_eq!(err(r.g(lin_abs(vec![0.0, 0.0], 10.0))), E4901);
     assert_eq!(err(r.g(ghalt())), E4901);
     assert_eq!(err(r.g(gstop())), E4901);
-    assert_eq!(err(r.g(GroupCommand::GroupEnable { group: G.into() })), E4901);
+    assert_eq!(
+        err(r.g(GroupCommand::GroupEnable { group: G.into() })),
+        E4901
+    );
     let reset = r.gid(greset());
     r.until(5000, |r| r.out(reset).done);
     r.step();
@@ -185,10 +196,15 @@ fn error_at_standstill_latches_until_reset_even_after_axis_reset() {
     r.cmd(inject("x")).unwrap();
     r.step();
     assert_eq!(r.gs().state, GroupState::ErrorStop);
-    r.cmd(AxisCommand::Reset(Reset { axis: "x".into() })).unwrap();
+    r.cmd(AxisCommand::Reset(Reset { axis: "x".into() }))
+        .unwrap();
     r.steps(3);
     assert_eq!(r.ax("x").motion_state, MotionState::Standstill);
-    assert_eq!(r.gs().state, GroupState::ErrorStop, "latched until MC_GrpReset");
+    assert_eq!(
+        r.gs().state,
+        GroupState::ErrorStop,
+        "latched until MC_GrpReset"
+    );
     r.gid(greset());
     r.step();
     assert_eq!(r.gs().state, GroupState::Standby);

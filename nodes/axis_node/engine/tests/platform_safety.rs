@@ -24,8 +24,16 @@ fn r_saf_2_hli_mismatch_makes_every_fb_fail_with_4904() {
         err(r.cmd(AxisCommand::ReadStatus(ReadStatus { axis: A0.into() }))),
         ErrorId(4904)
     );
-    assert!(motion_core::Engine::snapshot(&r.e).platform.version_mismatch);
-    assert!(!motion_core::Engine::snapshot(&r.e).platform.platform_base_done);
+    assert!(
+        motion_core::Engine::snapshot(&r.e)
+            .platform
+            .version_mismatch
+    );
+    assert!(
+        !motion_core::Engine::snapshot(&r.e)
+            .platform
+            .platform_base_done
+    );
     // A congruent client: everything works again.
     r.p(PlatformCommand::SessionStart {
         hli_version: HLI_VERSION,
@@ -158,7 +166,8 @@ fn r_saf_5_t2_needs_switch_and_start_but_no_clamp() {
         mode: OperatingMode::T2,
     })
     .unwrap();
-    r.p(PlatformCommand::EnablingSwitch { pressed: true }).unwrap();
+    r.p(PlatformCommand::EnablingSwitch { pressed: true })
+        .unwrap();
     r.power(A0, true).unwrap();
     r.steps(2);
     let id = r.id(rel(A0, 10000.0, 10000.0));
@@ -168,7 +177,8 @@ fn r_saf_5_t2_needs_switch_and_start_but_no_clamp() {
     r.steps(50);
     assert!(r.a0().set_pos > 0.0);
     // Releasing the enabling switch is a feed hold too (proposal).
-    r.p(PlatformCommand::EnablingSwitch { pressed: false }).unwrap();
+    r.p(PlatformCommand::EnablingSwitch { pressed: false })
+        .unwrap();
     r.until(5000, |r| r.a0().set_velo == 0.0);
     assert!(r.out(id).busy && !r.out(id).command_aborted);
 }
@@ -206,7 +216,10 @@ fn tc2_mc2_has_no_monitors_unless_configured() {
     );
     r.power(A0, true).unwrap();
     r.step();
-    assert_eq!(err(r.cmd(rel_full(A0, 100000.0, 300000.0, 1e7, 1e7, 1e9))), ErrorId(1));
+    assert_eq!(
+        err(r.cmd(rel_full(A0, 100000.0, 300000.0, 1e7, 1e7, 1e9))),
+        ErrorId(1)
+    );
     assert_eq!(r.a0().error_code, 60241);
 }
 
@@ -273,7 +286,11 @@ fn r_err_1_fb_errors_change_nothing_else() {
     let mut r = P4::isg();
     let a = r.id(rel(A0, 100000.0, 10000.0));
     r.step();
-    assert_eq!(err(r.cmd(rel(A0, 1.0, -1.0))), ErrorId(4902), "invalid parameter");
+    assert_eq!(
+        err(r.cmd(rel(A0, 1.0, -1.0))),
+        ErrorId(4902),
+        "invalid parameter"
+    );
     assert!(r.out(a).active, "the running instance notices nothing");
     assert_eq!(r.a0().motion_state, MotionState::DiscreteMotion);
 }

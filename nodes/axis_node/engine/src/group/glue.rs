@@ -16,7 +16,11 @@ fn finite(group: &str, fb: &str, field: &str, v: f64) -> Result<(), Rejection> {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(Rejection::not_finite(&format!("group '{group}': {fb}"), field, v))
+        Err(Rejection::not_finite(
+            &format!("group '{group}': {fb}"),
+            field,
+            v,
+        ))
     }
 }
 
@@ -66,7 +70,9 @@ fn only_aborting(group: &str, fb: &str, m: BufferMode) -> Result<(), Rejection> 
     } else {
         Err(reject(
             ERR_SIM_NOT_IMPLEMENTED,
-            format!("group '{group}': {fb}: BufferMode {m:?} is not implemented (only MC_Aborting)"),
+            format!(
+                "group '{group}': {fb}: BufferMode {m:?} is not implemented (only MC_Aborting)"
+            ),
         ))
     }
 }
@@ -90,13 +96,21 @@ impl AxisEngine {
         }
     }
 
-    fn group_admit(&self, g: usize, fb: GroupFbClass, name: &str) -> Result<GroupAdmission, Rejection> {
+    fn group_admit(
+        &self,
+        g: usize,
+        fb: GroupFbClass,
+        name: &str,
+    ) -> Result<GroupAdmission, Rejection> {
         let grp = &self.groups.list[g];
         let state = grp.state(&self.axes);
         match group_admission(fb, state) {
             GroupAdmission::Reject(id) => Err(reject(
                 id,
-                format!("group '{}': {name} not allowed in state {state:?}", grp.name),
+                format!(
+                    "group '{}': {name} not allowed in state {state:?}",
+                    grp.name
+                ),
             )),
             ok => Ok(ok),
         }
@@ -107,9 +121,9 @@ impl AxisEngine {
         let id = self.fbs.untracked_id();
         if self.groups.instances.len() > 4096 {
             let cycle = self.fbs.cycle;
-            self.groups
-                .instances
-                .retain(|_, i| !(i.state.is_final() && (!i.execute || i.ended_cycle + 1000 < cycle)));
+            self.groups.instances.retain(|_, i| {
+                !(i.state.is_final() && (!i.execute || i.ended_cycle + 1000 < cycle))
+            });
         }
         self.groups.instances.insert(
             id,
@@ -403,7 +417,11 @@ impl AxisEngine {
                 dynamics(&gname, fb, Some(c.velocity), &d)?;
                 only_aborting(&gname, fb, c.buffer_mode)?;
                 if self.groups.list[g].path.is_empty() {
-                    return Err(invalid(&gname, fb, "no path selected (MC_PathSelect)".into()));
+                    return Err(invalid(
+                        &gname,
+                        fb,
+                        "no path selected (MC_PathSelect)".into(),
+                    ));
                 }
                 self.group_admit(g, GroupFbClass::Move, fb)?;
                 self.members_ready(g, fb)?;
@@ -443,7 +461,11 @@ impl AxisEngine {
         for ax in self.groups.list[g].axes() {
             let a = &self.axes[ax];
             let busy = !a.group_motion
-                && (a.job.is_some() || a.lock.is_some() || a.homing.is_some() || a.coupling.is_some() || a.torque.is_some());
+                && (a.job.is_some()
+                    || a.lock.is_some()
+                    || a.homing.is_some()
+                    || a.coupling.is_some()
+                    || a.torque.is_some());
             if busy {
                 return Err(reject(
                     ERR_SIM_TRANSITION_NOT_ALLOWED,
@@ -459,7 +481,12 @@ impl AxisEngine {
         Ok(())
     }
 
-    fn move_linear(&mut self, g: usize, c: MoveLinear, relative: bool) -> Result<AxisReply, Rejection> {
+    fn move_linear(
+        &mut self,
+        g: usize,
+        c: MoveLinear,
+        relative: bool,
+    ) -> Result<AxisReply, Rejection> {
         let (fb, kind) = if relative {
             ("MC_MoveLinearRelative", GroupFbKind::MoveLinearRelative)
         } else {
@@ -482,7 +509,10 @@ impl AxisEngine {
             return Err(invalid(
                 gname,
                 fb,
-                format!("{field} has {} values, the group has {n} axes", c.position.len()),
+                format!(
+                    "{field} has {} values, the group has {n} axes",
+                    c.position.len()
+                ),
             ));
         }
         only_aborting(gname, fb, c.buffer_mode)?;
@@ -535,7 +565,10 @@ impl AxisEngine {
         let members = self.members(g);
         let here = self.member_set(g);
         let factor = self.groups.list[g].override_factor;
-        if let Some((s, dir)) = self.path_state(g).filter(|(s, _)| s.vel.abs() > V_REST || s.acc.abs() > V_REST) {
+        if let Some((s, dir)) = self
+            .path_state(g)
+            .filter(|(s, _)| s.vel.abs() > V_REST || s.acc.abs() > V_REST)
+        {
             // Moving: continue along a parallel same-direction line, else stop first.
             let first = queue.front().cloned().unwrap_or_else(|| here.clone());
             let (ndir, len) = unit(&here, &first);
@@ -546,7 +579,11 @@ impl AxisEngine {
                     velocity: (l.velocity * factor).max(1e-9),
                     ..l
                 };
-                let start = State1 { pos: 0.0, vel: s.vel, acc: s.acc };
+                let start = State1 {
+                    pos: 0.0,
+                    vel: s.vel,
+                    acc: s.acc,
+                };
                 if let Ok(p) = Profile1::to_position(start, len, 0.0, &l) {
                     self.groups.list[g].job = Some(PathJob {
                         owner: Some(id),
@@ -648,8 +685,16 @@ impl AxisEngine {
                 let s = j.profile.at(j.t);
                 let stop = self.stop_profile(&members, &j.dir, s, &d);
                 let origin = stop.at(0.0).pos;
-                let start: Vec<f64> = here.iter().zip(&j.dir).map(|(p, u)| p - u * origin).collect();
-                let end = start.iter().zip(&j.dir).map(|(p, u)| p + u * stop.end().pos).collect();
+                let start: Vec<f64> = here
+                    .iter()
+                    .zip(&j.dir)
+                    .map(|(p, u)| p - u * origin)
+                    .collect();
+                let end = start
+                    .iter()
+                    .zip(&j.dir)
+                    .map(|(p, u)| p + u * stop.end().pos)
+                    .collect();
                 PathJob {
                     owner: Some(id),
                     kind,
@@ -726,7 +771,8 @@ impl AxisEngine {
         if abort_lock {
             if let Some(l) = self.groups.list[g].lock.take() {
                 if !l.done {
-                    self.groups.set(&mut self.fbs, l.owner, CommandState::Aborted);
+                    self.groups
+                        .set(&mut self.fbs, l.owner, CommandState::Aborted);
                 }
             }
         }
@@ -782,7 +828,8 @@ impl AxisEngine {
             let owner = self.groups.list[g].job.as_ref().and_then(|j| j.owner);
             let lock = self.groups.list[g].lock.take().map(|l| l.owner);
             for id in owner.into_iter().chain(lock) {
-                self.groups.set(&mut self.fbs, id, CommandState::Error(ERR_PLC_AX_MC));
+                self.groups
+                    .set(&mut self.fbs, id, CommandState::Error(ERR_PLC_AX_MC));
             }
             if let Some(j) = self.groups.list[g].job.as_mut() {
                 j.owner = None;
@@ -915,8 +962,7 @@ impl AxisEngine {
 
     /// Outputs of a group instance (the active profile's Execute rules).
     pub fn group_outputs(&self, id: CmdId) -> Option<ExecuteOutputs> {
-        self.groups
-            .outputs(id, self.fbs.cycle, self.platform.isg())
+        self.groups.outputs(id, self.fbs.cycle, self.platform.isg())
     }
 
     /// The status of one group (MC_GroupReadStatus and the snapshot).
@@ -966,7 +1012,10 @@ impl AxisEngine {
     }
 
     /// A Part 4 call through the profile's start-up and version checks (§9, R-SAF-2).
-    pub(crate) fn group_command_screened(&mut self, cmd: GroupCommand) -> Result<AxisReply, Rejection> {
+    pub(crate) fn group_command_screened(
+        &mut self,
+        cmd: GroupCommand,
+    ) -> Result<AxisReply, Rejection> {
         let read = matches!(
             cmd,
             GroupCommand::GroupReadStatus { .. }
@@ -979,7 +1028,10 @@ impl AxisEngine {
             if self.platform.version_mismatch {
                 return Err(reject(
                     ERR_SIM_VERSION_MISMATCH,
-                    format!("group '{}': HLI version/size mismatch (R-SAF-2)", cmd.group()),
+                    format!(
+                        "group '{}': HLI version/size mismatch (R-SAF-2)",
+                        cmd.group()
+                    ),
                 ));
             }
             if self.platform.starting() {

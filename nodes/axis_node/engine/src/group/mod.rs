@@ -191,7 +191,11 @@ pub(crate) struct Groups {
 impl Groups {
     /// Sets an instance's state and queues the event (final states never change again).
     pub fn set(&mut self, fbs: &mut Handshake, id: CmdId, state: CommandState) {
-        let visible = if fbs.in_step { fbs.cycle } else { fbs.cycle + 1 };
+        let visible = if fbs.in_step {
+            fbs.cycle
+        } else {
+            fbs.cycle + 1
+        };
         if let Some(i) = self.instances.get_mut(&id) {
             if i.state.is_final() || i.state == state {
                 return;

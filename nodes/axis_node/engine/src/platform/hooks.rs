@@ -176,7 +176,11 @@ impl AxisEngine {
 
     /// Screening of a single-axis FB call before the Tc2_MC2 logic (may change the call:
     /// BufferMode, velocity clamps).
-    pub(crate) fn platform_pre(&mut self, ax: usize, cmd: &mut AxisCommand) -> Result<(), Rejection> {
+    pub(crate) fn platform_pre(
+        &mut self,
+        ax: usize,
+        cmd: &mut AxisCommand,
+    ) -> Result<(), Rejection> {
         let name = self.axes[ax].name.clone();
         let isg = self.platform.isg();
         let order = places_order(cmd);
@@ -187,7 +191,8 @@ impl AxisEngine {
                     format!("axis '{name}': {fb} is not implemented by the ISG platform (§3.1)"),
                 ));
             }
-            let read = !order && !matches!(cmd, AxisCommand::Power(_) | AxisCommand::SetOverride(_));
+            let read =
+                !order && !matches!(cmd, AxisCommand::Power(_) | AxisCommand::SetOverride(_));
             if self.platform.version_mismatch && !matches!(cmd, AxisCommand::Sim(_)) {
                 return Err(reject(
                     ERR_SIM_VERSION_MISMATCH,
@@ -205,10 +210,15 @@ impl AxisEngine {
             }
             // §7.2: instances of an axis in ERROR_STOP show ErrorID 1 (E6: also an enabled
             // MC_ReadActualPosition).
-            if matches!(cmd, AxisCommand::ReadActualPosition(_)) && !self.axes[ax].error_id.is_none() {
+            if matches!(cmd, AxisCommand::ReadActualPosition(_))
+                && !self.axes[ax].error_id.is_none()
+            {
                 return Err(reject(
                     ERR_PLC_AX_MC,
-                    format!("axis '{name}': in ERROR_STOP (MC error {})", self.axes[ax].error_id.0),
+                    format!(
+                        "axis '{name}': in ERROR_STOP (MC error {})",
+                        self.axes[ax].error_id.0
+                    ),
                 ));
             }
             force_aborting(cmd);
@@ -217,10 +227,17 @@ impl AxisEngine {
             let fb = motion_fb(cmd);
             let p = &self.platform.axes[ax];
             // R-SAF-5: in T1/T2 orders need the enabling switch.
-            if fb.is_some() && self.platform.mode != OperatingMode::Auto && !self.platform.enabling_switch {
+            if fb.is_some()
+                && self.platform.mode != OperatingMode::Auto
+                && !self.platform.enabling_switch
+            {
                 return Err(reject(
                     ERR_SIM_TRANSITION_NOT_ALLOWED,
-                    format!("axis '{name}': {} in {:?} needs the enabling switch (R-SAF-5)", fb.unwrap_or(""), self.platform.mode),
+                    format!(
+                        "axis '{name}': {} in {:?} needs the enabling switch (R-SAF-5)",
+                        fb.unwrap_or(""),
+                        self.platform.mode
+                    ),
                 ));
             }
             // R-SAF-6: non-referenced axes.
@@ -273,7 +290,9 @@ impl AxisEngine {
                 if !matches!(cmd, AxisCommand::Stop(_)) {
                     return Err(reject(
                         FB_ERR_MC_DID_NOT_TAKE_ORDER,
-                        format!("axis '{name}': the order slot is already used in this cycle (R-HS-3)"),
+                        format!(
+                            "axis '{name}': the order slot is already used in this cycle (R-HS-3)"
+                        ),
                     ));
                 }
                 // The overwritten order is aborted (the stop ends it with CommandAborted).
@@ -303,7 +322,9 @@ impl AxisEngine {
             Ok(reply) => {
                 if isg && order {
                     self.platform.axes[ax].slot = Some((reply.id, kind == PostKind::Stop));
-                    self.platform.order_ids.insert(reply.id, self.platform.g_order_id);
+                    self.platform
+                        .order_ids
+                        .insert(reply.id, self.platform.g_order_id);
                     self.platform.g_order_id = self.platform.g_order_id.wrapping_add(1);
                 }
                 if kind == PostKind::Home && self.platform.safety() {
@@ -363,7 +384,10 @@ impl AxisEngine {
             PlatformCommand::OperatingMode { mode } => {
                 let was = self.platform.mode;
                 self.platform.mode = mode;
-                if was == OperatingMode::Auto && mode != OperatingMode::Auto && self.platform.safety() {
+                if was == OperatingMode::Auto
+                    && mode != OperatingMode::Auto
+                    && self.platform.safety()
+                {
                     // Drive enables removed: every axis powers off, orders end CommandAborted.
                     for a in &mut self.axes {
                         a.switch_off(&mut self.fbs);
@@ -545,14 +569,16 @@ impl AxisEngine {
         }
         let fbs = &self.fbs;
         let axes = &mut self.platform.axes;
-        self.platform.homes.retain(|&(id, ax)| match fbs.get(id).map(|i| i.state) {
-            Some(CommandState::Done) => {
-                axes[ax].referenced = true;
-                false
-            }
-            Some(s) => !s.is_final(),
-            None => false,
-        });
+        self.platform
+            .homes
+            .retain(|&(id, ax)| match fbs.get(id).map(|i| i.state) {
+                Some(CommandState::Done) => {
+                    axes[ax].referenced = true;
+                    false
+                }
+                Some(s) => !s.is_final(),
+                None => false,
+            });
     }
 
     /// `isg_mcp`: an error event of an instance whose axis is in ERROR_STOP with that id
@@ -574,7 +600,9 @@ impl AxisEngine {
             return id;
         }
         match self.fbs.get(inst) {
-            Some(i) if !self.axes[i.axis].error_id.is_none() && self.axes[i.axis].error_id == id => {
+            Some(i)
+                if !self.axes[i.axis].error_id.is_none() && self.axes[i.axis].error_id == id =>
+            {
                 ERR_PLC_AX_MC
             }
             _ => id,

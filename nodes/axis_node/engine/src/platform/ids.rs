@@ -39,7 +39,9 @@ pub const MC_LIMIT_REACHED: ErrorId = ErrorId(91001);
 pub fn text(id: ErrorId) -> Option<&'static str> {
     Some(match id {
         ERR_PLC_AX_MC => "ERR_PLC_AX_MC: axis is in ERROR_STOP due to an MC error",
-        FB_ERR_MC_DID_NOT_TAKE_ORDER => "FB_ERR_MC_DID_NOT_TAKE_ORDER: order slot already used this cycle",
+        FB_ERR_MC_DID_NOT_TAKE_ORDER => {
+            "FB_ERR_MC_DID_NOT_TAKE_ORDER: order slot already used this cycle"
+        }
         ERR_PO_AX_TNA_INIT_STATE => "ERR_PO_AX_TNA_INIT_STATE: order during start-up",
         ERR_SIM_TRANSITION_NOT_ALLOWED => "ERR_SIM_TRANSITION_NOT_ALLOWED",
         ERR_SIM_INVALID_PARAMETER => "ERR_SIM_INVALID_PARAMETER",

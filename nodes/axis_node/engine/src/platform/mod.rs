@@ -13,8 +13,8 @@
 //! * §9 start-up (INIT_STATE for `nr_cycles_chk_mc_runs` cycles, orders → 4013) and §10
 //!   versioning (HLI congruence, mismatch → 4904 at every FB).
 
-pub mod ids;
 mod hooks;
+pub mod ids;
 pub(crate) use hooks::classify;
 
 use motion_core::{CmdId, ErrorId};

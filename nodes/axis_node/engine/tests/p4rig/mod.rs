@@ -5,7 +5,9 @@
 use axis_engine::group::*;
 use axis_engine::platform::*;
 use axis_engine::*;
-use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, ExecuteOutputs, Rejection, Tick};
+use motion_core::{
+    CmdId, CommandEvent, CommandState, Engine, ErrorId, ExecuteOutputs, Rejection, Tick,
+};
 
 pub const DT: f64 = 0.001;
 pub const G: &str = "g";
@@ -45,7 +47,10 @@ impl P4 {
             ..EngineConfig::default()
         };
         P4::build(
-            ["x", "y", "z"].iter().map(|n| (n.to_string(), axis_cfg())).collect(),
+            ["x", "y", "z"]
+                .iter()
+                .map(|n| (n.to_string(), axis_cfg()))
+                .collect(),
             cfg,
         )
     }
@@ -118,7 +123,10 @@ impl P4 {
             }
             self.step();
         }
-        panic!("condition not reached within {max} steps; group {:?}", self.e.group(G));
+        panic!(
+            "condition not reached within {max} steps; group {:?}",
+            self.e.group(G)
+        );
     }
 
     pub fn gs(&self) -> GroupStatus {
