@@ -187,6 +187,11 @@ fn single_axis_motion_on_a_member_is_refused_while_the_group_moves() {
         "tc2_mc2 id"
     );
     assert_eq!(err(r.cmd(abs("y", 1.0, 10.0))), ErrorId(0x4B01));
+    assert_eq!(
+        err(r.cmd(AxisCommand::Reset(Reset { axis: "y".into() }))),
+        ErrorId(0x4B01),
+        "MC_Reset of a healthy member would break the path"
+    );
     // A non-member is free.
     r.id(rel("z", 1.0, 10.0));
     // Reads on members work.

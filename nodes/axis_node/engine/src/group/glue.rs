@@ -808,9 +808,11 @@ impl AxisEngine {
     /// One cycle of every group: error latch, path interpolation (members' set values).
     /// Runs before the axes step (they then compute actual values and monitoring).
     pub(crate) fn groups_step(&mut self, dt: f64) {
-        for id in std::mem::take(&mut self.groups.instant_done) {
+        for k in 0..self.groups.instant_done.len() {
+            let id = self.groups.instant_done[k];
             self.groups.set(&mut self.fbs, id, CommandState::Done);
         }
+        self.groups.instant_done.clear();
         for g in 0..self.groups.list.len() {
             self.group_step(g, dt);
         }
@@ -852,16 +854,17 @@ impl AxisEngine {
                 self.groups.list[g].lock = None;
             }
         }
-        let members = self.members(g);
-        let Some(job) = self.groups.list[g].job.as_mut() else {
-            self.groups.list[g].path_vel = 0.0;
-            self.groups.list[g].path_acc = 0.0;
+        // Interpolation (no alloc, no lock): every member on the line at s(t).
+        let grp = &mut self.groups.list[g];
+        let Some(job) = grp.job.as_mut() else {
+            grp.path_vel = 0.0;
+            grp.path_acc = 0.0;
             return;
         };
         job.t += dt;
         let s = job.profile.at(job.t);
         let ended = job.t >= job.profile.duration() && !job.paused;
-        for (k, &ax) in members.iter().enumerate() {
+        for (k, &(_, ax)) in grp.members.iter().enumerate() {
             let a = &mut self.axes[ax];
             let u = job.dir[k];
             a.job = None;
@@ -873,11 +876,12 @@ impl AxisEngine {
             };
             a.target_pos = job.end[k];
         }
-        self.groups.list[g].path_vel = s.vel;
-        self.groups.list[g].path_acc = s.acc;
+        grp.path_vel = s.vel;
+        grp.path_acc = s.acc;
         if !ended {
             return;
         }
+        let members = self.members(g);
         // Segment end: exactly at its end point, at rest.
         let Some(mut job) = self.groups.list[g].job.take() else {
             return;
@@ -1069,6 +1073,7 @@ impl AxisEngine {
             TorqueControl(_) => "MC_TorqueControl",
             MoveSuperImposed(_) => "MC_MoveSuperImposed",
             SetPosition(_) => "MC_SetPosition",
+            Reset(_) if self.axes[ax].error_id.is_none() => "MC_Reset",
             _ => return Ok(()),
         };
         self.group_blocks_axis(ax, fb)
