@@ -319,3 +319,94 @@ fn isg_groups_startup_and_member_refusal_ids() {
     r.step();
     assert_eq!(err(r.cmd(rel("x", 1.0, 10.0))), ErrorId(4901));
 }
+
+#[test]
+fn isg_group_channel_slot_one_order_per_cycle_group_stop_overwrites() {
+    let cfg = EngineConfig {
+        platform_profile: PlatformProfile::IsgMcp,
+        groups: vec![GroupConfig {
+            name: G.into(),
+            axes: vec!["x".into(), "y".into()],
+        }],
+        ..EngineConfig::default()
+    };
+    let mut r = P4::build(
+        vec![("x".into(), axis_cfg()), ("y".into(), axis_cfg())],
+        cfg,
+    );
+    r.steps(10);
+    r.power("x", true).unwrap();
+    r.power("y", true).unwrap();
+    r.step();
+    let n = r.g_order_id();
+    let m = r.gid(lin_abs(vec![30.0, 40.0], 10.0));
+    assert_eq!(r.order_id(m), n);
+    assert_eq!(err(r.g(lin_abs(vec![0.0, 40.0], 10.0))), ErrorId(4));
+    assert_eq!(r.g_order_id(), n + 1);
+    r.g(GroupCommand::GroupReadStatus { group: G.into() })
+        .unwrap();
+    let s = r.gid(gstop());
+    assert!(r.out(m).command_aborted, "MC_GroupStop overwrites");
+    r.step();
+    assert!(r.out(s).done);
+    assert_eq!(r.gs().state, GroupState::Stopping);
+}
+
+#[test]
+fn r_err_3_reset_keeps_error_stop_while_the_cause_remains() {
+    let mut r = P4::isg();
+    r.p(PlatformCommand::InjectActualVelocity {
+        axis: A0.into(),
+        velocity: 300000.0,
+        duration_cycles: 20,
+    })
+    .unwrap();
+    r.step();
+    assert_eq!(r.a0().error_code, 70225);
+    r.cmd(AxisCommand::Reset(Reset { axis: A0.into() }))
+        .unwrap();
+    r.step();
+    assert_eq!(
+        r.a0().motion_state,
+        MotionState::ErrorStop,
+        "velocity still too high"
+    );
+    r.steps(25);
+    r.cmd(AxisCommand::Reset(Reset { axis: A0.into() }))
+        .unwrap();
+    r.steps(2);
+    assert_ne!(
+        r.a0().motion_state,
+        MotionState::ErrorStop,
+        "cause gone: reset works"
+    );
+}
+
+#[test]
+fn group_instance_done_latched_in_isg_one_cycle_in_tc2() {
+    for (profile, latched) in [
+        (PlatformProfile::IsgMcp, true),
+        (PlatformProfile::Tc2Mc2, false),
+    ] {
+        let cfg = EngineConfig {
+            platform_profile: profile,
+            groups: vec![GroupConfig {
+                name: G.into(),
+                axes: vec!["x".into()],
+            }],
+            ..EngineConfig::default()
+        };
+        let mut r = P4::build(vec![("x".into(), axis_cfg())], cfg);
+        r.steps(10);
+        r.power("x", true).unwrap();
+        r.step();
+        let m = r.gid(lin_rel(vec![1.0], 100.0));
+        r.set_execute(m, false);
+        r.until(1000, |r| r.out(m).done);
+        r.steps(3);
+        assert_eq!(r.out(m).done, latched, "{profile:?}");
+        r.set_execute(m, true);
+        r.set_execute(m, false);
+        assert!(!r.out(m).done, "{profile:?}: a falling edge clears");
+    }
+}

@@ -814,6 +814,7 @@ impl AxisEngine {
         }
         self.groups.instant_done.clear();
         for g in 0..self.groups.list.len() {
+            self.groups.list[g].slot = false;
             self.group_step(g, dt);
         }
     }
@@ -1045,7 +1046,29 @@ impl AxisEngine {
                 ));
             }
         }
-        self.group_command(cmd)
+        // R-HS-3/R-HS-4 on the group's channel slot: one order per cycle, MC_GroupStop
+        // overwrites; reads and MC_GroupSetOverride use no slot.
+        let order =
+            self.platform.isg() && !read && !matches!(cmd, GroupCommand::GroupSetOverride(_));
+        let g = self.group_index(cmd.group())?;
+        if order && self.groups.list[g].slot && !matches!(cmd, GroupCommand::GroupStop(_)) {
+            return Err(reject(
+                FB_ERR_MC_DID_NOT_TAKE_ORDER,
+                format!(
+                    "group '{}': the channel's order slot is already used in this cycle (R-HS-3)",
+                    cmd.group()
+                ),
+            ));
+        }
+        let reply = self.group_command(cmd)?;
+        if order {
+            self.groups.list[g].slot = true;
+            self.platform
+                .order_ids
+                .insert(reply.id, self.platform.g_order_id);
+            self.platform.g_order_id = self.platform.g_order_id.wrapping_add(1);
+        }
+        Ok(reply)
     }
 
     /// Single-axis motion FBs on a member of a moving or stopping group are refused.

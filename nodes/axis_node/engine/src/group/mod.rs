@@ -133,6 +133,8 @@ pub(crate) struct Group {
     pub override_factor: f64,
     pub override_enabled: bool,
     pub path: Vec<Vec<f64>>,
+    /// `isg_mcp`: the channel's order slot is used in this cycle (R-HS-3).
+    pub slot: bool,
     /// Path velocity/acceleration of the last cycle (status).
     pub path_vel: f64,
     pub path_acc: f64,
@@ -150,6 +152,7 @@ impl Group {
             override_factor: 1.0,
             override_enabled: false,
             path: Vec::new(),
+            slot: false,
             path_vel: 0.0,
             path_acc: 0.0,
         }
