@@ -410,3 +410,65 @@ fn group_instance_done_latched_in_isg_one_cycle_in_tc2() {
         assert!(!r.out(m).done, "{profile:?}: a falling edge clears");
     }
 }
+
+#[test]
+fn r_saf_5_group_feed_hold_is_path_true_and_continues() {
+    let cfg = EngineConfig {
+        platform_profile: PlatformProfile::IsgMcp,
+        groups: vec![GroupConfig {
+            name: G.into(),
+            axes: vec!["x".into(), "y".into()],
+        }],
+        ..EngineConfig::default()
+    };
+    let mut r = P4::build(
+        vec![("x".into(), axis_cfg()), ("y".into(), axis_cfg())],
+        cfg,
+    );
+    r.steps(10);
+    r.p(PlatformCommand::OperatingMode {
+        mode: OperatingMode::T1,
+    })
+    .unwrap();
+    r.power("x", true).unwrap();
+    r.power("y", true).unwrap();
+    r.step();
+    assert_eq!(err(r.g(lin_abs(vec![300.0, 400.0], 100.0))), ErrorId(4901));
+    r.p(PlatformCommand::EnablingSwitch { pressed: true })
+        .unwrap();
+    r.step();
+    let m = r.gid(lin_abs(vec![300.0, 400.0], 100.0));
+    r.steps(100);
+    assert_eq!(r.ax("x").set_pos, 0.0, "no START: no motion");
+    assert!(r.out(m).busy);
+    r.p(PlatformCommand::StartButton { pressed: true }).unwrap();
+    r.until(10000, |r| r.ax("x").set_pos > 100.0);
+    r.p(PlatformCommand::StartButton { pressed: false })
+        .unwrap();
+    r.until(10000, |r| {
+        let (x, y) = (r.ax("x").set_pos, r.ax("y").set_pos);
+        assert!((x * 4.0 - y * 3.0).abs() < 1e-6, "path-true hold");
+        r.gs().path_velocity == 0.0
+    });
+    assert!(r.out(m).busy && !r.out(m).command_aborted);
+    r.p(PlatformCommand::StartButton { pressed: true }).unwrap();
+    r.until(20000, |r| r.out(m).done);
+    assert_eq!((r.ax("x").set_pos, r.ax("y").set_pos), (300.0, 400.0));
+}
+
+#[test]
+fn r_saf_5_stop_is_never_blocked_by_the_enabling_switch() {
+    let mut r = P4::isg();
+    r.p(PlatformCommand::OperatingMode {
+        mode: OperatingMode::T1,
+    })
+    .unwrap();
+    r.p(PlatformCommand::EnablingSwitch { pressed: true })
+        .unwrap();
+    r.power(A0, true).unwrap();
+    r.steps(2);
+    r.p(PlatformCommand::EnablingSwitch { pressed: false })
+        .unwrap();
+    r.id(stop(A0, 0.0));
+    assert_eq!(r.a0().motion_state, MotionState::Stopping);
+}

@@ -564,7 +564,7 @@ impl AxisEngine {
         self.group_take_over(g);
         let members = self.members(g);
         let here = self.member_set(g);
-        let factor = self.groups.list[g].override_factor;
+        let factor = self.groups.list[g].factor();
         if let Some((s, dir)) = self
             .path_state(g)
             .filter(|(s, _)| s.vel.abs() > V_REST || s.acc.abs() > V_REST)
@@ -637,7 +637,7 @@ impl AxisEngine {
         d: Dyn,
     ) -> PathJob {
         let members = self.members(g);
-        let factor = self.groups.list[g].override_factor;
+        let factor = self.groups.list[g].factor();
         let (dir, len) = unit(&from, &to);
         let l = path_limits(&self.axes, &members, &dir, &d);
         let profile = if len <= 0.0 || factor <= 0.0 {
@@ -727,7 +727,7 @@ impl AxisEngine {
     /// MC_GroupSetOverride changed the factor: replan the running move from its path state.
     fn group_replan_override(&mut self, g: usize) {
         let members = self.members(g);
-        let factor = self.groups.list[g].override_factor;
+        let factor = self.groups.list[g].factor();
         let Some(j) = self.groups.list[g].job.as_ref() else {
             return;
         };
@@ -813,8 +813,13 @@ impl AxisEngine {
             self.groups.set(&mut self.fbs, id, CommandState::Done);
         }
         self.groups.instant_done.clear();
+        let hold = self.platform.feed_hold();
         for g in 0..self.groups.list.len() {
             self.groups.list[g].slot = false;
+            if self.groups.list[g].held != hold {
+                self.groups.list[g].held = hold;
+                self.group_replan_override(g);
+            }
             self.group_step(g, dt);
         }
     }
@@ -1045,6 +1050,27 @@ impl AxisEngine {
                     format!("group '{}': order during start-up (§9)", cmd.group()),
                 ));
             }
+        }
+        // R-SAF-5: in T1/T2 group motions need the enabling switch.
+        let motion = matches!(
+            cmd,
+            GroupCommand::MoveLinearAbsolute(_)
+                | GroupCommand::MoveLinearRelative(_)
+                | GroupCommand::MovePath(_)
+        );
+        if motion
+            && self.platform.safety()
+            && self.platform.mode != crate::platform::OperatingMode::Auto
+            && !self.platform.enabling_switch
+        {
+            return Err(reject(
+                ERR_SIM_TRANSITION_NOT_ALLOWED,
+                format!(
+                    "group '{}': motion in {:?} needs the enabling switch (R-SAF-5)",
+                    cmd.group(),
+                    self.platform.mode
+                ),
+            ));
         }
         // R-HS-3/R-HS-4 on the group's channel slot: one order per cycle, MC_GroupStop
         // overwrites; reads and MC_GroupSetOverride use no slot.

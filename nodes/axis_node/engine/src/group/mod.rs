@@ -133,6 +133,9 @@ pub(crate) struct Group {
     pub override_factor: f64,
     pub override_enabled: bool,
     pub path: Vec<Vec<f64>>,
+    /// Feed hold of R-SAF-5 (T1/T2 without enabling switch + START): path-true stop, the
+    /// move stays active.
+    pub held: bool,
     /// `isg_mcp`: the channel's order slot is used in this cycle (R-HS-3).
     pub slot: bool,
     /// Path velocity/acceleration of the last cycle (status).
@@ -153,8 +156,18 @@ impl Group {
             override_enabled: false,
             path: Vec::new(),
             slot: false,
+            held: false,
             path_vel: 0.0,
             path_acc: 0.0,
+        }
+    }
+
+    /// Effective velocity factor: the override, 0 during a feed hold.
+    pub fn factor(&self) -> f64 {
+        if self.held {
+            0.0
+        } else {
+            self.override_factor
         }
     }
 

@@ -227,7 +227,9 @@ impl AxisEngine {
             let fb = motion_fb(cmd);
             let p = &self.platform.axes[ax];
             // R-SAF-5: in T1/T2 orders need the enabling switch.
+            let stopping = matches!(cmd, AxisCommand::Stop(_) | AxisCommand::Halt(_));
             if fb.is_some()
+                && !stopping
                 && self.platform.mode != OperatingMode::Auto
                 && !self.platform.enabling_switch
             {
