@@ -32,6 +32,8 @@ pub struct AxisEngine {
     pub(crate) groups: crate::group::Groups,
     /// Platform profile, safety functions, start-up (plcopen_platform.md §6–§10).
     pub(crate) platform: crate::platform::Platform,
+    /// Raw FB layer state (plcopen_platform.md §12.2).
+    pub(crate) raw: crate::platform::raw::Raw,
     /// Instantaneous commands reported Done in the next cycle (§3.1 rule 2).
     instant_done: Vec<CmdId>,
     tick: u64,
@@ -185,6 +187,7 @@ impl AxisEngine {
             fbs: Handshake::new(),
             groups: Default::default(),
             platform: Default::default(),
+            raw: Default::default(),
             instant_done: Vec::with_capacity(64),
             tick: 0,
             order,
@@ -2185,7 +2188,7 @@ fn modulo_target(
 impl AxisEngine {
     /// One FB call: group and platform calls, instance updates, then single-axis FBs through
     /// the profile hooks.
-    fn dispatch(&mut self, mut cmd: AxisCommand) -> Result<AxisReply, Rejection> {
+    pub(crate) fn dispatch(&mut self, mut cmd: AxisCommand) -> Result<AxisReply, Rejection> {
         match cmd {
             AxisCommand::Group(g) => return self.group_command_screened(g),
             AxisCommand::Platform(p) => return self.platform_command(p),

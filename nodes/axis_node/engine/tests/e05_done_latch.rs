@@ -51,3 +51,44 @@ fn e5_tc2_mc2_shows_done_for_one_cycle_only() {
     r.step();
     assert!(!r.out(id).done);
 }
+
+#[test]
+fn e5_raw_layer_chaining_pitfall() {
+    // FB2.Execute := FB1.Done each cycle; FB1 trigger-style in cycle 20.
+    use axis_engine::platform::raw::FbCall;
+    let mut r = P4::isg();
+    r.steps(9);
+    let fb1 = |e: bool| {
+        call(
+            "FB1",
+            e,
+            rel_full(A0, 1000.0, 10000.0, 100000.0, 100000.0, 1e7),
+        )
+    };
+    let fb2 = |e: bool| -> FbCall { call("FB2", e, rel(A0, 10.0, 10000.0)) };
+    let (mut fb1_done, mut fb2_orders, mut last_fb2) = (false, 0u32, 0u32);
+    let mut run = |r: &mut P4, fb1_exec: bool, n: usize, fb1_done: &mut bool| {
+        for k in 0..n {
+            let o = r.cycle(&[fb1(fb1_exec && k == 0), fb2(*fb1_done)]);
+            *fb1_done = o[0].done;
+            if o[1].order_id != last_fb2 {
+                last_fb2 = o[1].order_id;
+                fb2_orders += 1;
+            }
+        }
+    };
+    run(&mut r, true, 1000, &mut fb1_done);
+    assert!(fb1_done, "FB1.Done latched with Execute FALSE");
+    // Re-trigger FB1 for one cycle: its Done stays TRUE until that Execute falls.
+    let o = r.cycle(&[fb1(true), fb2(fb1_done)]);
+    assert!(
+        o[0].done && o[0].busy,
+        "Done not cleared by the rising edge"
+    );
+    run(&mut r, false, 1000, &mut fb1_done);
+    drop(run);
+    assert_eq!(
+        fb2_orders, 2,
+        "FB2 started once per complete FB1 trigger cycle"
+    );
+}

@@ -1,8 +1,9 @@
 //! E12 — order numbers (plcopen_platform.md §13, §4.3, R-FB-3): fresh start, g_order_id = 1;
 //! FB X orders → order_id 1, g → 2; FB Y orders → order_id 2, g → 3; an FB-level error
-//! (error 4) leaves g unchanged. (Re-triggering an ACTIVE instance is part of the raw FB
-//! layer of §12.2, which this engine does not model: every call is a fresh instance.)
+//! (error 4) leaves g unchanged; FB X re-triggered while ACTIVE (raw FB layer, §12.2) keeps
+//! order_id 1 with 2 orders in flight.
 mod p4rig;
+use axis_engine::platform::raw;
 use axis_engine::*;
 use motion_core::ErrorId;
 use p4rig::*;
@@ -28,4 +29,36 @@ fn e12_order_numbers() {
         .unwrap()
         .id;
     assert_eq!(r.order_id(s), 0);
+}
+
+#[test]
+fn e12_raw_retrigger_keeps_the_number() {
+    let mut r = P4::isg();
+    let x = |e| call("X", e, rel(A0, 1000.0, 10000.0));
+    let o = r.cycle(&[x(true)]);
+    assert_eq!((o[0].order_id, r.g_order_id()), (1, 2));
+    r.cycle(&[x(false)]);
+    let o = r.cycle(&[x(true)]);
+    assert_eq!(o[0].fb_state, raw::FbState::Active);
+    assert_eq!((o[0].order_id, o[0].in_flight, r.g_order_id()), (1, 2, 2));
+    // Y orders in the next cycle; Z in the same cycle fails with 4.
+    let o = r.cycle(&[
+        x(true),
+        call("Y", true, rel(A0, 10.0, 10000.0)),
+        call("Z", true, rel(A0, 10.0, 10000.0)),
+    ]);
+    assert_eq!((o[1].order_id, r.g_order_id()), (2, 3));
+    assert!(o[2].error && o[2].error_id == ErrorId(4));
+    assert_eq!(o[2].fb_state, raw::FbState::Error);
+    assert_eq!(r.g_order_id(), 3);
+    // X finishes only when both of its orders are acknowledged (here: aborted by Y).
+    let mut done = None;
+    for _ in 0..100 {
+        let o = r.cycle(&[x(true), call("Y", true, rel(A0, 10.0, 10000.0))]);
+        if o[0].command_aborted {
+            done = Some(o[0].in_flight);
+            break;
+        }
+    }
+    assert_eq!(done, Some(0));
 }

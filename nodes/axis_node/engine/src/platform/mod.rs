@@ -15,6 +15,7 @@
 
 mod hooks;
 pub mod ids;
+pub mod raw;
 pub(crate) use hooks::classify;
 
 use motion_core::{CmdId, ErrorId};

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 use axis_engine::group::*;
+use axis_engine::platform::raw;
 use axis_engine::platform::*;
 use axis_engine::*;
 use motion_core::{
@@ -353,4 +354,26 @@ pub fn vel(axis: &str, velocity: f64) -> AxisCommand {
         buffer_mode: BufferMode::Aborting,
         options: MoveOptions::default(),
     })
+}
+
+impl P4 {
+    /// One PLC cycle of the raw FB layer (§12.2) with these calls, then one MC cycle.
+    pub fn cycle(&mut self, calls: &[raw::FbCall]) -> Vec<raw::FbOut> {
+        let t = Tick {
+            index: self.tick,
+            dt: DT,
+        };
+        let mut ev = Vec::new();
+        let o = self.e.fb_cycle(t, calls, &mut ev);
+        self.tick += 1;
+        o
+    }
+}
+
+pub fn call(instance: &str, execute: bool, fb: AxisCommand) -> raw::FbCall {
+    raw::FbCall {
+        instance: instance.into(),
+        execute,
+        fb,
+    }
 }
