@@ -86,7 +86,6 @@ fn e5_raw_layer_chaining_pitfall() {
         "Done not cleared by the rising edge"
     );
     run(&mut r, false, 1000, &mut fb1_done);
-    drop(run);
     assert_eq!(
         fb2_orders, 2,
         "FB2 started once per complete FB1 trigger cycle"

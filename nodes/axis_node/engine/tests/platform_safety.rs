@@ -472,3 +472,50 @@ fn r_saf_5_stop_is_never_blocked_by_the_enabling_switch() {
     r.id(stop(A0, 0.0));
     assert_eq!(r.a0().motion_state, MotionState::Stopping);
 }
+
+#[test]
+fn r_hs_3_max_retrials_retries_before_error_4() {
+    use axis_engine::platform::raw;
+    let mut r = P4::isg_with(PlatformConfig {
+        max_retrials: 2,
+        ..PlatformConfig::default()
+    });
+    let o = r.cycle(&[
+        call("A", true, rel(A0, 1000.0, 10000.0)),
+        call("B", true, rel(A0, 10.0, 10000.0)),
+    ]);
+    assert!(!o[1].error && o[1].busy, "B waits for the slot (FB_RETRY)");
+    assert_eq!(o[1].order_id, 0);
+    // Next cycle B is called first and takes the free slot.
+    let o = r.cycle(&[call("B", true, rel(A0, 10.0, 10000.0))]);
+    assert_eq!(o[0].fb_state, raw::FbState::Active);
+    assert_eq!(o[0].order_id, 2);
+}
+
+#[test]
+fn r_hs_3_without_retrials_error_4_at_once() {
+    let mut r = P4::isg();
+    let o = r.cycle(&[
+        call("A", true, rel(A0, 1000.0, 10000.0)),
+        call("B", true, rel(A0, 10.0, 10000.0)),
+    ]);
+    assert!(o[1].error && o[1].error_id == ErrorId(4));
+}
+
+#[test]
+fn r_fb_4_retrigger_with_another_axis_is_4907() {
+    let cfg = EngineConfig {
+        platform_profile: PlatformProfile::IsgMcp,
+        ..EngineConfig::default()
+    };
+    let mut r = P4::build(vec![(A0.into(), a0_cfg()), ("a1".into(), a0_cfg())], cfg);
+    r.steps(10);
+    r.power(A0, true).unwrap();
+    r.power("a1", true).unwrap();
+    r.step();
+    r.cycle(&[call("X", true, rel(A0, 100000.0, 10000.0))]);
+    r.cycle(&[call("X", false, rel(A0, 100000.0, 10000.0))]);
+    let o = r.cycle(&[call("X", true, rel("a1", 10.0, 10000.0))]);
+    assert!(o[0].error && o[0].error_id == ErrorId(4907));
+    assert_eq!(r.ax("a1").set_pos, 0.0, "no order sent");
+}

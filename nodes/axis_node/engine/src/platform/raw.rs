@@ -113,6 +113,9 @@ struct Inst {
     engine: Vec<CmdId>,
     out: FbOut,
     in_velocity_acked: bool,
+    /// FB_RETRY (§4.1): the order that found the slot occupied and the retries left
+    /// (`MAX_RETRIALS`).
+    retry: Option<(AxisCommand, u32)>,
 }
 
 /// Raw-layer state (instances and acknowledgement queues).
@@ -302,6 +305,23 @@ impl AxisEngine {
             i.out.error = false;
             i.out.error_id = ErrorId::NONE;
         }
+        // FB_RETRY: a pending order is tried again in this call (R-HS-3 with MAX_RETRIALS).
+        if !rising {
+            if let Some((fb, left)) = i.retry.take() {
+                let state = i.state;
+                match self.dispatch(fb.clone()) {
+                    Ok(reply) => {
+                        let ax = self.raw.instances[k].axis;
+                        self.raw_placed(k, ax, state, &reply);
+                    }
+                    Err(r) if r.error_id == FB_ERR_MC_DID_NOT_TAKE_ORDER && left > 1 => {
+                        self.raw.instances[k].retry = Some((fb, left - 1));
+                    }
+                    Err(r) => self.raw_error(k, state, r.error_id),
+                }
+                return self.raw_out(k);
+            }
+        }
         if rising {
             let state = i.state;
             let Some(ax) = axis else {
@@ -317,21 +337,33 @@ impl AxisEngine {
             }
             match self.dispatch(call.fb.clone()) {
                 Ok(reply) => self.raw_placed(k, ax, state, &reply),
-                Err(r) => {
+                Err(r)
+                    if r.error_id == FB_ERR_MC_DID_NOT_TAKE_ORDER
+                        && self.platform.cfg.max_retrials > 0 =>
+                {
                     let i = &mut self.raw.instances[k];
-                    i.out.error = true;
-                    i.out.error_id = r.error_id;
-                    i.out.done = false;
-                    i.out.command_aborted = false;
-                    if state != FbState::Active {
-                        i.state = FbState::Error;
-                        i.out.busy = false;
-                        i.out.active = false;
-                    }
+                    i.axis = ax;
+                    i.retry = Some((call.fb.clone(), self.platform.cfg.max_retrials));
+                    i.out.busy = true;
                 }
+                Err(r) => self.raw_error(k, state, r.error_id),
             }
         }
         self.raw_out(k)
+    }
+
+    /// The order attempt failed: FB-level error (nothing sent, §4.2).
+    fn raw_error(&mut self, k: usize, state: FbState, id: ErrorId) {
+        let i = &mut self.raw.instances[k];
+        i.out.error = true;
+        i.out.error_id = id;
+        i.out.done = false;
+        i.out.command_aborted = false;
+        if state != FbState::Active {
+            i.state = FbState::Error;
+            i.out.busy = false;
+            i.out.active = false;
+        }
     }
 
     fn raw_placed(&mut self, k: usize, ax: usize, state: FbState, reply: &AxisReply) {
