@@ -98,3 +98,16 @@ fn e6_reaction_class_3_removes_the_enable() {
     assert!(!r.safety(A0).drive_enabled);
     assert_eq!(r.a0().set_velo, 0.0, "brake closed");
 }
+
+#[test]
+fn e6_error_id_1_stays_after_the_reset() {
+    let mut r = P4::isg();
+    let m = r.id(rel(A0, 100000.0, 10000.0));
+    r.steps(100);
+    r.p(msg(23456, 2, 1)).unwrap();
+    r.until(5000, |r| r.a0().set_velo == 0.0);
+    r.cmd(AxisCommand::Reset(Reset { axis: A0.into() }))
+        .unwrap();
+    r.steps(2);
+    assert_eq!(r.out(m).error_id, ErrorId(1));
+}

@@ -89,3 +89,22 @@ fn e10_auto_to_t1_while_moving_aborts() {
     assert!(!r.safety(A0).drive_enabled);
     assert_eq!(r.a0().motion_state, MotionState::Disabled);
 }
+
+#[test]
+fn e10_feed_hold_does_not_abort_move_velocity() {
+    let mut r = P4::isg();
+    mode(&mut r, OperatingMode::T2);
+    switch(&mut r, true);
+    start(&mut r, true);
+    r.power(A0, true).unwrap();
+    r.steps(2);
+    let v = r.id(vel(A0, 10000.0));
+    r.until(1000, |r| r.e.fb_outputs(v).unwrap().in_velocity);
+    start(&mut r, false);
+    r.until(5000, |r| r.a0().set_velo == 0.0);
+    let o = r.out(v);
+    assert!(o.busy && !o.command_aborted, "held, not aborted");
+    start(&mut r, true);
+    r.until(5000, |r| r.e.fb_outputs(v).unwrap().in_velocity);
+    assert!((r.a0().set_velo - 10000.0).abs() < 1e-6);
+}

@@ -323,6 +323,12 @@ impl AxisEngine {
             }
             Ok(reply) => {
                 if isg && order {
+                    if self.platform.order_ids.len() > 4096 {
+                        let (fbs, groups) = (&self.fbs, &self.groups);
+                        self.platform.order_ids.retain(|id, _| {
+                            fbs.get(*id).is_some() || groups.instances.contains_key(id)
+                        });
+                    }
                     self.platform.axes[ax].slot = Some((reply.id, kind == PostKind::Stop));
                     self.platform
                         .order_ids
@@ -529,7 +535,21 @@ impl AxisEngine {
                 } else {
                     a.set_override.unwrap_or(a.power_override)
                 };
+                // A feed hold is not an override change of Tc2_MC2: MC_MoveVelocity is not
+                // aborted by it (the owner is kept out of the replanning).
+                let owner = a
+                    .job
+                    .as_mut()
+                    .filter(|j| j.kind == crate::axis::JobKind::Velocity)
+                    .and_then(|j| j.owner.take());
                 crate::engine::apply_override(a, pct, &mut self.fbs);
+                if let (Some(id), Some(j)) = (owner, a.job.as_mut()) {
+                    j.owner = Some(id);
+                    if let Some(i) = self.fbs.get_mut(id) {
+                        // InVelocity again once the velocity is reached after the hold.
+                        i.in_velocity = false;
+                    }
+                }
             }
         }
     }
@@ -585,13 +605,20 @@ impl AxisEngine {
 
     /// `isg_mcp`: an error event of an instance whose axis is in ERROR_STOP with that id
     /// shows ErrorID 1 (§7.2).
-    pub(crate) fn platform_map_events(&self, events: &mut [CommandEvent]) {
+    /// The instance keeps that id (also after MC_Reset cleared the axis error).
+    pub(crate) fn platform_map_events(&mut self, events: &mut [CommandEvent]) {
         if !self.platform.isg() {
             return;
         }
         for e in events {
             if let CommandState::Error(id) = e.state {
-                e.state = CommandState::Error(self.platform_error_id(e.id, id));
+                let mapped = self.platform_error_id(e.id, id);
+                if mapped != id {
+                    e.state = CommandState::Error(mapped);
+                    if let Some(i) = self.fbs.get_mut(e.id) {
+                        i.state = CommandState::Error(mapped);
+                    }
+                }
             }
         }
     }
