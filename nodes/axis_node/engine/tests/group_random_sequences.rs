@@ -49,7 +49,7 @@ fn random_cmd(g: &mut SmallRng) -> AxisCommand {
     };
     let grp = if g.gen_bool(0.03) { "nope" } else { G };
     let ax = ["x", "y", "z", "w"][g.gen_range(0..4)];
-    let mut lin = |g: &mut SmallRng, rel: bool| {
+    let lin = |g: &mut SmallRng, rel: bool| {
         let c = MoveLinear {
             group: grp.into(),
             position: pos(g, 2),
