@@ -425,6 +425,8 @@ impl AxisEngine {
                 }
                 self.group_admit(g, GroupFbClass::Move, fb)?;
                 self.members_ready(g, fb)?;
+                let first = self.groups.list[g].path[0].clone();
+                self.group_safety_check(g, fb, true, &first, c.velocity)?;
                 let queue: VecDeque<Vec<f64>> = self.groups.list[g].path.iter().cloned().collect();
                 let id = self.group_instance(g, GroupFbKind::MovePath, CommandState::Active);
                 self.group_start_move(g, id, queue, d);
@@ -537,6 +539,7 @@ impl AxisEngine {
             c.position
         };
         self.check_soft_limits(g, fb, &target)?;
+        self.group_safety_check(g, fb, !relative, &target, c.velocity)?;
         let id = self.group_instance(g, kind, CommandState::Active);
         self.group_start_move(g, id, VecDeque::from([target]), d);
         Ok(Self::group_tracked(id))
@@ -574,7 +577,7 @@ impl AxisEngine {
             let (ndir, len) = unit(&here, &first);
             let dot: f64 = ndir.iter().zip(&dir).map(|(a, b)| a * b).sum();
             if queue.len() == 1 && len > 0.0 && dot > 1.0 - 1e-9 && s.vel > 0.0 {
-                let l = path_limits(&self.axes, &members, &ndir, &d);
+                let l = self.group_limits(&members, &ndir, &d);
                 let l = Limits {
                     velocity: (l.velocity * factor).max(1e-9),
                     ..l
@@ -626,6 +629,72 @@ impl AxisEngine {
         self.groups.list[g].job = Some(job);
     }
 
+    /// Path limits with the safety caps of the members (R-SAF-5 T1 speed, R-SAF-6 reduced
+    /// speed of non-referenced axes): `v_path ≤ cap_i / |u_i|`.
+    fn group_limits(&self, members: &[usize], dir: &[f64], d: &Dyn) -> Limits {
+        let mut l = path_limits(&self.axes, members, dir, d);
+        for (k, &ax) in members.iter().enumerate() {
+            let u = dir.get(k).copied().unwrap_or(0.0).abs();
+            let cap = self.platform_velocity_cap(ax);
+            if u > 1e-12 && cap.is_finite() {
+                l.velocity = l.velocity.min(cap / u);
+            }
+        }
+        l
+    }
+
+    /// R-SAF-1a/R-SAF-6 for a group order: absolute group moves need referenced members
+    /// (4903); a member's programmed velocity `v · |u_i|` above its monitoring limit raises
+    /// MC error 60241 on that axis (the FB shows ErrorID 1, the group goes to
+    /// GROUP_ERROR_STOP).
+    fn group_safety_check(
+        &mut self,
+        g: usize,
+        fb: &str,
+        absolute: bool,
+        target: &[f64],
+        velocity: f64,
+    ) -> Result<(), Rejection> {
+        if !self.platform.safety() {
+            return Ok(());
+        }
+        let members = self.members(g);
+        let here = self.member_set(g);
+        for &ax in &members {
+            if absolute && !self.platform.axes[ax].referenced {
+                return Err(reject(
+                    ERR_SIM_AXIS_NOT_REFERENCED,
+                    format!(
+                        "group '{}': {fb} needs referenced members; axis '{}' is not (R-SAF-6)",
+                        self.groups.list[g].name, self.axes[ax].name
+                    ),
+                ));
+            }
+        }
+        let (dir, _) = unit(&here, target);
+        for (k, &ax) in members.iter().enumerate() {
+            let cap = self.platform_velocity_cap(ax);
+            let v = velocity.min(if dir[k].abs() > 1e-12 {
+                cap / dir[k].abs()
+            } else {
+                f64::INFINITY
+            }) * dir[k].abs();
+            let p = &self.platform.axes[ax];
+            if p.velocity_lease == 0 && v > p.velocity_limit() {
+                let limit = p.velocity_limit();
+                self.mc_message(ax, MC_PROGRAMMED_VELOCITY_EXCEEDS_LIMIT.0, 1, 1);
+                return Err(reject(
+                    ERR_PLC_AX_MC,
+                    format!(
+                        "group '{}': {fb}: MC error 60241 on axis '{}': programmed velocity {v} exceeds the monitoring limit {limit} (R-SAF-1)",
+                        self.groups.list[g].name, self.axes[ax].name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// A rest-to-rest segment from `from` to `to`.
     fn plan_segment(
         &self,
@@ -639,7 +708,7 @@ impl AxisEngine {
         let members = self.members(g);
         let factor = self.groups.list[g].factor();
         let (dir, len) = unit(&from, &to);
-        let l = path_limits(&self.axes, &members, &dir, &d);
+        let l = self.group_limits(&members, &dir, &d);
         let profile = if len <= 0.0 || factor <= 0.0 {
             Profile1::hold(State1::at_rest(0.0))
         } else {
@@ -742,7 +811,7 @@ impl AxisEngine {
             .zip(&j.dir)
             .map(|((e, st), u)| (e - st) * u)
             .sum();
-        let l = path_limits(&self.axes, &members, &j.dir, &j.dynamics);
+        let l = self.group_limits(&members, &j.dir, &j.dynamics);
         let profile = if factor <= 0.0 {
             self.stop_profile(&members, &j.dir, s, &j.dynamics)
         } else {

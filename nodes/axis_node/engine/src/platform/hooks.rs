@@ -346,6 +346,23 @@ impl AxisEngine {
         }
     }
 
+    /// Velocity cap of an axis from the safety functions \[u/s\]: T1 (R-SAF-5) and
+    /// non-referenced (R-SAF-6); infinite when none applies.
+    pub(crate) fn platform_velocity_cap(&self, ax: usize) -> f64 {
+        if !self.platform.safety() {
+            return f64::INFINITY;
+        }
+        let p = &self.platform.axes[ax];
+        let mut cap = f64::INFINITY;
+        if self.platform.mode == OperatingMode::T1 {
+            cap = cap.min(p.t1_limit());
+        }
+        if !p.referenced {
+            cap = cap.min(p.cfg.vb_not_referenced);
+        }
+        cap
+    }
+
     /// Records an MC message (§7.2): class > 0 raises the axis error with the reaction.
     pub(crate) fn mc_message(&mut self, ax: usize, error_id: u32, remedy: u16, reaction: u16) {
         let m = McMessage {
