@@ -16,7 +16,6 @@ fn rig(pc: PlatformConfig) -> P4 {
             axes: vec!["x".into(), "y".into()],
         }],
         platform: pc,
-        ..EngineConfig::default()
     };
     let mut r = P4::build(vec![("x".into(), a0_cfg()), ("y".into(), a0_cfg())], cfg);
     r.steps(10);
