@@ -297,3 +297,55 @@ fn admission_matrix_cells_as_specified() {
         assert_eq!(group_admission(fb, st), want, "row {fb:?}, state {st:?}");
     }
 }
+
+#[test]
+fn stopping_to_error_stop_on_member_error() {
+    let mut r = P4::xy_powered();
+    r.gid(lin_abs(vec![300.0, 400.0], 200.0));
+    r.steps(500);
+    let s = r.gid(gstop());
+    r.steps(5);
+    r.cmd(inject("x")).unwrap();
+    r.step();
+    assert_eq!(r.gs().state, GroupState::ErrorStop);
+    assert_eq!(r.out(s).error_id, ErrorId(1));
+}
+
+#[test]
+fn stopping_to_disabled_by_group_disable() {
+    let mut r = P4::xy_powered();
+    r.gid(lin_abs(vec![300.0, 400.0], 200.0));
+    r.steps(500);
+    let s = r.gid(gstop());
+    r.gid(GroupCommand::GroupDisable { group: G.into() });
+    assert!(r.out(s).command_aborted);
+    assert_eq!(r.gs().state, GroupState::Disabled);
+}
+
+#[test]
+fn error_stop_to_disabled_by_group_disable_clears_the_group_error() {
+    let mut r = P4::xy_powered();
+    r.cmd(inject("x")).unwrap();
+    r.step();
+    assert_eq!(r.gs().state, GroupState::ErrorStop);
+    r.gid(GroupCommand::GroupDisable { group: G.into() });
+    assert_eq!(r.gs().state, GroupState::Disabled);
+    assert_eq!(r.gs().error_id, ErrorId::NONE);
+    // A user-disabled group does not latch member errors.
+    r.step();
+    assert_eq!(r.gs().state, GroupState::Disabled);
+    // Re-enabled while the member error persists: the latch comes back.
+    r.gid(GroupCommand::GroupEnable { group: G.into() });
+    r.step();
+    assert_eq!(r.gs().state, GroupState::ErrorStop);
+}
+
+#[test]
+fn error_stop_to_disabled_by_ungroup() {
+    let mut r = P4::xy_powered();
+    r.cmd(inject("y")).unwrap();
+    r.step();
+    r.gid(GroupCommand::UngroupAllAxes { group: G.into() });
+    assert_eq!(r.gs().state, GroupState::Disabled);
+    assert_eq!(r.gs().error_id, ErrorId::NONE);
+}
