@@ -111,3 +111,29 @@ fn e6_error_id_1_stays_after_the_reset() {
     r.steps(2);
     assert_eq!(r.out(m).error_id, ErrorId(1));
 }
+
+/// Peak |deceleration| of the error reaction after a message with `reaction` during a move
+/// with Deceleration 200000 (fast deceleration of the axis: 5e6).
+fn reaction_decel(reaction: u16) -> f64 {
+    let mut r = P4::isg();
+    r.id(rel_full(A0, 1e6, 100000.0, 200000.0, 200000.0, 1e8));
+    r.steps(1500);
+    r.p(msg(40000, 1, reaction)).unwrap();
+    let mut peak: f64 = 0.0;
+    r.until(10000, |r| {
+        peak = peak.max(r.a0().set_acc.abs());
+        r.a0().set_velo == 0.0
+    });
+    peak
+}
+
+#[test]
+fn e6_reaction_classes_1_and_2() {
+    let d1 = reaction_decel(1);
+    let d2 = reaction_decel(2);
+    assert!(
+        (d1 - 200000.0).abs() < 1.0,
+        "class 1: programmed deceleration, {d1}"
+    );
+    assert!(d2 > 1e6, "class 2: quick stop with the limit values, {d2}");
+}

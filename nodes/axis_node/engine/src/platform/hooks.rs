@@ -375,7 +375,26 @@ impl AxisEngine {
         buf.push_front(m);
         buf.truncate(ERROR_BUFFER_LEN);
         if remedy > 0 {
-            self.axes[ax].raise_error(ErrorId(error_id), reaction >= 3, &mut self.fbs);
+            let a = &mut self.axes[ax];
+            a.raise_error(ErrorId(error_id), reaction >= 3, &mut self.fbs);
+            // Reaction class 1: decelerate with the programmed deceleration (class 2 = the
+            // quick stop with the limit values of the error reaction, class 3 = at once).
+            if reaction == 1 && a.moving() {
+                let l = motion_core::Limits {
+                    velocity: a.cfg.max_velocity,
+                    acceleration: a.last_dec,
+                    deceleration: a.last_dec,
+                    jerk: a.last_jerk,
+                };
+                let profile = a.plan_stop(&l);
+                let stop = profile.end().pos;
+                a.start_job(crate::axis::Job::internal(
+                    crate::axis::JobKind::FastStop,
+                    profile,
+                    stop,
+                    l,
+                ));
+            }
         }
     }
 
