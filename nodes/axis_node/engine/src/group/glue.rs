@@ -272,13 +272,17 @@ impl AxisEngine {
             }
             GroupCommand::GroupReset { .. } => {
                 self.group_admit(g, GroupFbClass::Reset, "MC_GrpReset")?;
-                let id = self.group_instance(g, GroupFbKind::GroupReset, CommandState::Busy);
-                // Member axes in ErrorStop are reset with them (MC_Reset each).
+                // Member axes in ErrorStop are reset with them (MC_Reset each; in isg_mcp
+                // their MC message buffers are cleared too, R-ERR-3).
                 for ax in self.members(g) {
                     if !self.axes[ax].error_id.is_none() {
                         self.reset(ax)?;
+                        if self.platform.isg() {
+                            self.platform.axes[ax].messages.clear();
+                        }
                     }
                 }
+                let id = self.group_instance(g, GroupFbKind::GroupReset, CommandState::Busy);
                 self.groups.list[g].error = ErrorId::NONE;
                 self.groups.instant_done.push(id);
                 Ok(Self::group_tracked(id))
