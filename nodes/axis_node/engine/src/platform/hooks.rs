@@ -684,6 +684,12 @@ impl AxisEngine {
             platform_base_done: !p.starting() && !p.version_mismatch,
             init_cycles: if p.isg() { p.cycles.min(n) } else { 0 },
             version_mismatch: p.version_mismatch,
+            errors: if p.version_mismatch {
+                vec![ERR_SIM_VERSION_MISMATCH]
+            } else {
+                Vec::new()
+            },
+            clog_warnings: self.raw.warnings.len(),
             g_order_id: p.g_order_id,
             operating_mode: p.mode,
             enabling_switch: p.enabling_switch,

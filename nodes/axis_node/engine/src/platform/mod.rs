@@ -352,6 +352,10 @@ pub struct PlatformStatus {
     pub init_cycles: u64,
     /// Version mismatch detected (4904).
     pub version_mismatch: bool,
+    /// Platform errors (§9 `errors`): 4904 on an HLI mismatch.
+    pub errors: Vec<ErrorId>,
+    /// Raw-layer warnings so far (4906 acknowledgement clog, R-HS-5).
+    pub clog_warnings: usize,
     /// Next order number.
     pub g_order_id: u32,
     /// Operating mode.

@@ -128,7 +128,7 @@ pub(crate) struct Raw {
     clog_warned: Vec<Option<(usize, u32)>>,
     accepted: Vec<(usize, usize, u32)>,
     cycle: u64,
-    pub warnings: Vec<RawWarning>,
+    pub(crate) warnings: Vec<RawWarning>,
 }
 
 impl AxisEngine {
