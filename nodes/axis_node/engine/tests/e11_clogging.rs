@@ -36,6 +36,10 @@ fn e11_unconsumed_acknowledgements_clog_the_axis() {
         "warning after > 2 cycles at the head"
     );
     assert_eq!(r.e.raw_warnings().len(), 1, "one warning per clog");
+    assert_eq!(
+        motion_core::Engine::snapshot(&r.e).platform.clog_warnings,
+        1
+    );
     // A called once: its ACCEPTED and ABORTED are consumed.
     let o = r.cycle(&[a()]);
     assert!(o[0].command_aborted && !o[0].busy);

@@ -34,6 +34,10 @@ fn r_saf_2_hli_mismatch_makes_every_fb_fail_with_4904() {
             .platform
             .platform_base_done
     );
+    assert_eq!(
+        motion_core::Engine::snapshot(&r.e).platform.errors,
+        vec![ErrorId(4904)]
+    );
     // A congruent client: everything works again.
     r.p(PlatformCommand::SessionStart {
         hli_version: HLI_VERSION,
