@@ -108,3 +108,26 @@ fn e10_feed_hold_does_not_abort_move_velocity() {
     r.until(5000, |r| r.e.fb_outputs(v).unwrap().in_velocity);
     assert!((r.a0().set_velo - 10000.0).abs() < 1e-6);
 }
+
+#[test]
+fn e10_override_written_during_the_hold_does_not_release_it() {
+    let mut r = P4::isg();
+    mode(&mut r, OperatingMode::T1);
+    switch(&mut r, true);
+    r.power(A0, true).unwrap();
+    r.steps(2);
+    let id = r.id(rel(A0, 100000.0, 100000.0));
+    r.cmd(AxisCommand::SetOverride(SetOverride {
+        axis: A0.into(),
+        enable: true,
+        vel_factor: 1.0,
+        acc_factor: 1.0,
+        jerk_factor: 1.0,
+    }))
+    .unwrap();
+    r.power(A0, true).unwrap();
+    r.steps(200);
+    assert_eq!(r.a0().set_pos, 0.0, "still held without START");
+    start(&mut r, true);
+    r.until(10000, |r| r.out(id).done);
+}

@@ -341,6 +341,10 @@ impl AxisEngine {
                 if kind == PostKind::Reset && isg {
                     self.platform.axes[ax].messages.clear();
                 }
+                if kind == PostKind::Override && self.platform.axes[ax].feed_hold {
+                    // An override written during a feed hold must not release it.
+                    self.apply_feed_hold(ax);
+                }
                 Ok(reply)
             }
         }
@@ -565,27 +569,33 @@ impl AxisEngine {
         for ax in 0..self.axes.len() {
             if self.platform.axes[ax].feed_hold != hold {
                 self.platform.axes[ax].feed_hold = hold;
-                let a = &mut self.axes[ax];
-                let pct = if hold {
-                    0.0
-                } else {
-                    a.set_override.unwrap_or(a.power_override)
-                };
-                // A feed hold is not an override change of Tc2_MC2: MC_MoveVelocity is not
-                // aborted by it (the owner is kept out of the replanning).
-                let owner = a
-                    .job
-                    .as_mut()
-                    .filter(|j| j.kind == crate::axis::JobKind::Velocity)
-                    .and_then(|j| j.owner.take());
-                crate::engine::apply_override(a, pct, &mut self.fbs);
-                if let (Some(id), Some(j)) = (owner, a.job.as_mut()) {
-                    j.owner = Some(id);
-                    if let Some(i) = self.fbs.get_mut(id) {
-                        // InVelocity again once the velocity is reached after the hold.
-                        i.in_velocity = false;
-                    }
-                }
+                self.apply_feed_hold(ax);
+            }
+        }
+    }
+
+    /// Applies the axis' feed-hold level as its effective override (0 while held).
+    fn apply_feed_hold(&mut self, ax: usize) {
+        let hold = self.platform.axes[ax].feed_hold;
+        let a = &mut self.axes[ax];
+        let pct = if hold {
+            0.0
+        } else {
+            a.set_override.unwrap_or(a.power_override)
+        };
+        // A feed hold is not an override change of Tc2_MC2: MC_MoveVelocity is not aborted
+        // by it (the owner is kept out of the replanning).
+        let owner = a
+            .job
+            .as_mut()
+            .filter(|j| j.kind == crate::axis::JobKind::Velocity)
+            .and_then(|j| j.owner.take());
+        crate::engine::apply_override(a, pct, &mut self.fbs);
+        if let (Some(id), Some(j)) = (owner, a.job.as_mut()) {
+            j.owner = Some(id);
+            if let Some(i) = self.fbs.get_mut(id) {
+                // InVelocity again once the velocity is reached after the hold.
+                i.in_velocity = false;
             }
         }
     }
@@ -726,6 +736,8 @@ pub(crate) enum PostKind {
     Reset,
     /// MC_Stop.
     Stop,
+    /// MC_Power / MC_SetOverride (write the override).
+    Override,
     /// Anything else.
     Other,
 }
@@ -736,6 +748,7 @@ pub(crate) fn classify(cmd: &AxisCommand) -> (bool, PostKind) {
         AxisCommand::Home(_) => PostKind::Home,
         AxisCommand::Reset(_) => PostKind::Reset,
         AxisCommand::Stop(_) => PostKind::Stop,
+        AxisCommand::Power(_) | AxisCommand::SetOverride(_) => PostKind::Override,
         _ => PostKind::Other,
     };
     (places_order(cmd), kind)

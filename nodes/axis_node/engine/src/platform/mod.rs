@@ -12,6 +12,13 @@
 //! * §8 safety R-SAF-0 … R-SAF-6 (in `tc2_mc2` only with `safety_monitors: true`).
 //! * §9 start-up (INIT_STATE for `nr_cycles_chk_mc_runs` cycles, orders → 4013) and §10
 //!   versioning (HLI congruence, mismatch → 4904 at every FB).
+//! * §12.2 raw FB layer ([`raw`]): FB_IDLE/ACTIVE/ERROR, re-trigger with the same order
+//!   number, the per-axis acknowledgement queue with clogging (4906).
+//!
+//! Not modelled: `msgs_interface_hash` of R-VER-1 (ROS layer), limit-switch braking of
+//! R-SYS-1 (91001) and the overshoot rule of R-SYS-2, Part 4 FBs in the raw layer, the
+//! unused globals of §2.3 (accepted in the config). A feed hold (R-SAF-5) is an effective
+//! override of 0 (path-true for groups); overrides written during the hold apply after it.
 
 mod hooks;
 pub mod ids;
@@ -82,8 +89,19 @@ impl Default for AxisPlatformConfig {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlatformConfig {
-    /// `MAX_RETRIALS` (proposal): not modelled beyond 0 (the second order fails at once).
+    /// `MAX_RETRIALS` (proposal): cycles a raw-layer instance retries an order that found
+    /// the slot occupied before error 4 (0 = error 4 at once).
     pub max_retrials: u32,
+    /// `MAX_RESET_RETRIALS` (accepted, not used: MC_Reset is taken at once here).
+    pub max_reset_retrials: u32,
+    /// `MAX_RESET_WAIT_CYCLES` (accepted, not used).
+    pub max_reset_wait_cycles: u32,
+    /// `g_axis_idx_offset` (accepted, not used: axes are addressed by name).
+    pub g_axis_idx_offset: i32,
+    /// `MAX_USED_INSTANCES` (accepted, not used).
+    pub max_used_instances: u32,
+    /// `NR_MAX_PLC_CYCLES_CHK_MC_RUNS` (accepted, not used: the simulated MC always runs).
+    pub nr_max_plc_cycles_chk_mc_runs: u32,
     /// `NR_CYCLES_CHK_MC_RUNS`: start-up length in cycles (R-INIT-1).
     pub nr_cycles_chk_mc_runs: u32,
     /// Initial `g_order_id`.
@@ -106,6 +124,11 @@ impl Default for PlatformConfig {
     fn default() -> Self {
         PlatformConfig {
             max_retrials: 0,
+            max_reset_retrials: 50000,
+            max_reset_wait_cycles: 1_000_000,
+            g_axis_idx_offset: 0,
+            max_used_instances: 3,
+            nr_max_plc_cycles_chk_mc_runs: 1000,
             nr_cycles_chk_mc_runs: 10,
             g_order_id: 1,
             auto_power: false,
