@@ -73,3 +73,51 @@ fn e9_set_referenced_hook() {
     .unwrap();
     assert_eq!(err(r.cmd(abs(A0, 1000.0, 10000.0))), ErrorId(4903));
 }
+
+#[test]
+fn e9_software_limits_not_monitored_until_referenced() {
+    let cfg = axis_engine::platform::EngineConfig {
+        platform_profile: PlatformProfile::IsgMcp,
+        platform: PlatformConfig {
+            axes: [(
+                A0.to_string(),
+                AxisPlatformConfig {
+                    referenced: false,
+                    ..Default::default()
+                },
+            )]
+            .into(),
+            ..PlatformConfig::default()
+        },
+        ..Default::default()
+    };
+    let lim = AxisConfig {
+        en_max_soft_pos_limit: true,
+        max_soft_pos_limit: 10000.0,
+        ..a0_cfg()
+    };
+    let mut r = P4::build(vec![(A0.into(), lim)], cfg);
+    r.steps(10);
+    r.power(A0, true).unwrap();
+    r.step();
+    let m = r.id(rel(A0, 40000.0, 20000.0));
+    r.until(10000, |r| r.out(m).done);
+    assert_eq!(r.a0().set_pos, 40000.0, "beyond the (unmonitored) limit");
+    let h = r.id(AxisCommand::Home(Home {
+        axis: A0.into(),
+        position: 0.0,
+        use_default_position: false,
+        homing_mode: HomingMode::Direct,
+        buffer_mode: BufferMode::Aborting,
+        options: HomingOptions::default(),
+        calibration_cam: false,
+    }));
+    r.until(10, |r| r.out(h).done);
+    r.step();
+    assert!(r.safety(A0).referenced);
+    assert_eq!(
+        err(r.cmd(abs(A0, 50000.0, 10000.0))),
+        ErrorId(0x4D01),
+        "limits back"
+    );
+}

@@ -171,7 +171,33 @@ impl AxisEngine {
                 }
             })
             .collect();
+        for ax in 0..self.axes.len() {
+            self.sync_soft_limits(ax);
+        }
         Ok(())
+    }
+
+    /// R-SAF-6: software limits are not monitored on a non-referenced axis; the configured
+    /// enables come back when it is referenced again.
+    pub(crate) fn sync_soft_limits(&mut self, ax: usize) {
+        if !self.platform.safety() {
+            return;
+        }
+        let p = &mut self.platform.axes[ax];
+        let c = &mut self.axes[ax].cfg;
+        match (p.referenced, p.soft_limits) {
+            (false, None) => {
+                p.soft_limits = Some((c.en_min_soft_pos_limit, c.en_max_soft_pos_limit));
+                c.en_min_soft_pos_limit = false;
+                c.en_max_soft_pos_limit = false;
+            }
+            (true, Some((lo, hi))) => {
+                p.soft_limits = None;
+                c.en_min_soft_pos_limit = lo;
+                c.en_max_soft_pos_limit = hi;
+            }
+            _ => {}
+        }
     }
 
     /// Screening of a single-axis FB call before the Tc2_MC2 logic (may change the call:
@@ -492,6 +518,7 @@ impl AxisEngine {
             PlatformCommand::SetReferenced { axis, referenced } => {
                 let ax = ax_of(self, &axis)?;
                 self.platform.axes[ax].referenced = referenced;
+                self.sync_soft_limits(ax);
             }
             PlatformCommand::SessionStart {
                 hli_version,
@@ -647,6 +674,11 @@ impl AxisEngine {
                 Some(s) => !s.is_final(),
                 None => false,
             });
+        for ax in 0..self.axes.len() {
+            if self.platform.axes[ax].referenced && self.platform.axes[ax].soft_limits.is_some() {
+                self.sync_soft_limits(ax);
+            }
+        }
     }
 
     /// `isg_mcp`: an error event of an instance whose axis is in ERROR_STOP with that id

@@ -406,6 +406,9 @@ pub(crate) struct AxisPlatform {
     pub feed_hold: bool,
     /// Order slot of this cycle: the instance that placed its order.
     pub slot: Option<(CmdId, bool)>,
+    /// The configured software-limit enables (min, max), suspended while not referenced
+    /// (R-SAF-6: no machine-fixed reference, no software limit monitoring).
+    pub soft_limits: Option<(bool, bool)>,
 }
 
 impl AxisPlatform {
