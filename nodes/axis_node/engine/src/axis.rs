@@ -178,6 +178,8 @@ pub(crate) struct Axis {
     pub in_target_timer: f64,
     pub in_target: bool,
     pub lag_timer: f64,
+    /// Driven by a Part 4 group motion (state SynchronizedMotion, plcopen_platform.md §5).
+    pub group_motion: bool,
 }
 
 /// Velocities below this count as standstill \[u/s\].
@@ -232,6 +234,7 @@ impl Axis {
             in_target_timer: 0.0,
             in_target: false,
             lag_timer: 0.0,
+            group_motion: false,
             cfg,
         }
     }
@@ -245,7 +248,7 @@ impl Axis {
             operational: self.controller_on && self.status,
             stopping: self.lock.is_some(),
             homing: self.homing.is_some(),
-            coupled: self.coupling.is_some(),
+            coupled: self.coupling.is_some() || self.group_motion,
             continuous: kind == Some(JobKind::Velocity)
                 || self.job.is_some_and(|j| j.continuous)
                 || self.torque.is_some(),

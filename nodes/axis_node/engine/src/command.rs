@@ -887,6 +887,10 @@ pub enum AxisCommand {
         /// The instance.
         id: CmdId,
     },
+    /// A PLCopen Part 4 axis-group FB call (plcopen_platform.md §3.2, §5).
+    Group(crate::group::GroupCommand),
+    /// A platform service: safety, simulation, session (plcopen_platform.md §8–§12).
+    Platform(crate::platform::PlatformCommand),
 }
 
 /// The outputs of one FB instance ([`AxisCommand::ReadFbOutputs`]).
@@ -919,6 +923,10 @@ pub enum ReplyValue {
     Status(Box<AxisStatus>),
     /// [`AxisCommand::ReadFbOutputs`].
     Outputs(Box<InstanceOutputs>),
+    /// Group read FBs (and [`AxisCommand::ReadFbOutputs`] of a group instance).
+    Group(crate::group::GroupReply),
+    /// Platform reads.
+    Platform(crate::platform::PlatformReply),
 }
 
 /// The answer to an accepted command.
@@ -973,7 +981,9 @@ impl AxisCommand {
             | HomeCalibrationCam { .. }
             | TorqueControlUpdate { .. }
             | TouchProbePlcEvent { .. }
-            | ReadFbOutputs { .. } => return None,
+            | ReadFbOutputs { .. }
+            | Group(_)
+            | Platform(_) => return None,
             Sim(s) => match s {
                 self::Sim::InjectAxisError { axis, .. }
                 | self::Sim::DriveFault { axis, .. }

@@ -25,9 +25,15 @@ use std::collections::HashMap;
 /// The single-axis engine: all configured axes and their FB instances.
 #[derive(Debug)]
 pub struct AxisEngine {
-    axes: Vec<Axis>,
-    index: HashMap<String, usize>,
-    fbs: Handshake,
+    pub(crate) axes: Vec<Axis>,
+    pub(crate) index: HashMap<String, usize>,
+    pub(crate) fbs: Handshake,
+    /// Part 4 axis groups (plcopen_platform.md §3.2, §5).
+    pub(crate) groups: crate::group::Groups,
+    /// Platform profile, safety functions, start-up (plcopen_platform.md §6–§10).
+    pub(crate) platform: crate::platform::Platform,
+    /// Raw FB layer state (plcopen_platform.md §12.2).
+    pub(crate) raw: crate::platform::raw::Raw,
     /// Instantaneous commands reported Done in the next cycle (§3.1 rule 2).
     instant_done: Vec<CmdId>,
     tick: u64,
@@ -143,6 +149,16 @@ impl AxisEngine {
     /// Builds the engine from `(name, config)` pairs; names must be unique and non-empty,
     /// every config valid (message names axis, key and value).
     pub fn new(axes: Vec<(String, AxisConfig)>) -> Result<Self, Rejection> {
+        Self::with_config(axes, &crate::platform::EngineConfig::default())
+    }
+
+    /// Builds the engine with an engine-level configuration: `platform_profile`, Part 4
+    /// groups and platform settings (plcopen_platform.md). Unknown axis names in it are
+    /// refused with `UNKNOWN_OBJECT`.
+    pub fn with_config(
+        axes: Vec<(String, AxisConfig)>,
+        config: &crate::platform::EngineConfig,
+    ) -> Result<Self, Rejection> {
         let mut index = HashMap::new();
         let mut list = Vec::with_capacity(axes.len());
         for (i, (name, mut cfg)) in axes.into_iter().enumerate() {
@@ -165,14 +181,20 @@ impl AxisEngine {
             list.push(Axis::new(name, cfg));
         }
         let order = (0..list.len()).collect();
-        Ok(AxisEngine {
+        let mut e = AxisEngine {
             axes: list,
             index,
             fbs: Handshake::new(),
+            groups: Default::default(),
+            platform: Default::default(),
+            raw: Default::default(),
             instant_done: Vec::with_capacity(64),
             tick: 0,
             order,
-        })
+        };
+        e.build_groups(&config.groups)?;
+        e.build_platform(config)?;
+        Ok(e)
     }
 
     /// Masters before slaves; recomputed when a coupling is made.
@@ -230,12 +252,18 @@ impl AxisEngine {
 
     /// Standard outputs of an admitted Execute-type instance (§3.1–§3.3).
     pub fn outputs(&self, id: CmdId) -> Option<ExecuteOutputs> {
-        self.fbs.outputs(id).map(|o| o.standard)
+        self.fb_outputs(id)
+            .map(|o| o.standard)
+            .or_else(|| self.group_outputs(id))
     }
 
     /// All outputs of an instance (incl. InVelocity).
     pub fn fb_outputs(&self, id: CmdId) -> Option<FbOutputs> {
-        self.fbs.outputs(id)
+        let mut o = self.fbs.outputs_with(id, self.platform.isg())?;
+        if o.standard.error {
+            o.standard.error_id = self.platform_error_id(id, o.standard.error_id);
+        }
+        Some(o)
     }
 
     /// Outputs of the axis' MC_Power (Enable-type, §4.1): Status, Busy (= Enable), Active
@@ -338,7 +366,7 @@ impl AxisEngine {
 
     // ------------------------------------------------------------------ MC_Power
 
-    fn power(&mut self, ax: usize, c: Power) -> Result<AxisReply, Rejection> {
+    pub(crate) fn power(&mut self, ax: usize, c: Power) -> Result<AxisReply, Rejection> {
         let a = &mut self.axes[ax];
         finite(&a.name, "MC_Power", "Override", c.override_percent)?;
         if !(0.0..=100.0).contains(&c.override_percent) {
@@ -407,7 +435,7 @@ impl AxisEngine {
 
     // ------------------------------------------------------------------ MC_Reset
 
-    fn reset(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    pub(crate) fn reset(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
         self.admit_state(ax, FbClass::Reset, "MC_Reset")?;
         let id = self.fbs.admit(ax, FbKind::Reset, CommandState::Busy);
         let a = &mut self.axes[ax];
@@ -2031,7 +2059,7 @@ fn blend(a: &mut Axis, j: Job, pending: Pending, mode: BufferMode, blend_at: Opt
 }
 
 /// Sets the effective override and replans if it changed.
-fn apply_override(a: &mut Axis, pct: f64, fbs: &mut Handshake) {
+pub(crate) fn apply_override(a: &mut Axis, pct: f64, fbs: &mut Handshake) {
     if pct != a.override_pct {
         a.override_pct = pct;
         override_changed(a, fbs);
@@ -2157,15 +2185,29 @@ fn modulo_target(
     Ok(modulo::moving_target(stop, position, period, travel))
 }
 
-impl Engine for AxisEngine {
-    type Command = AxisCommand;
-    type Reply = AxisReply;
-    type Snapshot = AxisSnapshot;
-
-    fn command(&mut self, cmd: AxisCommand) -> Result<AxisReply, Rejection> {
+impl AxisEngine {
+    /// One FB call: group and platform calls, instance updates, then single-axis FBs through
+    /// the profile hooks.
+    pub(crate) fn dispatch(&mut self, mut cmd: AxisCommand) -> Result<AxisReply, Rejection> {
         match cmd {
-            AxisCommand::SetExecute { id, execute } => return self.set_execute(id, execute),
-            AxisCommand::ReadFbOutputs { id } => return self.read_fb_outputs(id),
+            AxisCommand::Group(g) => return self.group_command_screened(g),
+            AxisCommand::Platform(p) => return self.platform_command(p),
+            AxisCommand::SetExecute { id, execute } => {
+                if let Some(r) = self.group_set_execute(id, execute) {
+                    return Ok(r);
+                }
+                return self.set_execute(id, execute);
+            }
+            AxisCommand::ReadFbOutputs { id } => {
+                if let Some(o) = self.group_outputs(id) {
+                    return Ok(AxisReply {
+                        id,
+                        value: ReplyValue::Group(crate::group::GroupReply::Outputs(o)),
+                        tracked: false,
+                    });
+                }
+                return self.read_fb_outputs(id);
+            }
             AxisCommand::HomeCalibrationCam {
                 id,
                 calibration_cam,
@@ -2191,6 +2233,18 @@ impl Engine for AxisEngine {
             _ => {}
         }
         let ax = self.axis_index(cmd.axis().unwrap_or_default())?;
+        // Profile hooks (plcopen_platform.md): screening, then bookkeeping of the result.
+        self.platform_pre(ax, &mut cmd)?;
+        self.group_screen_axis_command(ax, &cmd)?;
+        let (order, kind) = crate::platform::classify(&cmd);
+        let res = self.axis_command(ax, cmd);
+        self.platform_post(ax, order, kind, res)
+    }
+}
+
+impl AxisEngine {
+    /// The Tc2_MC2 FB semantics of one single-axis call (after the profile hooks).
+    fn axis_command(&mut self, ax: usize, cmd: AxisCommand) -> Result<AxisReply, Rejection> {
         // A move FB: its dynamics screened (§3.5), then admitted through the buffer logic (§3.6).
         macro_rules! positioning {
             ($c:expr, $kind:ident, $req:expr) => {{
@@ -2316,10 +2370,22 @@ impl Engine for AxisEngine {
             | AxisCommand::HomeCalibrationCam { .. }
             | AxisCommand::TorqueControlUpdate { .. }
             | AxisCommand::TouchProbePlcEvent { .. }
-            | AxisCommand::ReadFbOutputs { .. } => {
+            | AxisCommand::ReadFbOutputs { .. }
+            | AxisCommand::Group(_)
+            | AxisCommand::Platform(_) => {
                 unreachable!("handled above")
             }
         }
+    }
+}
+
+impl Engine for AxisEngine {
+    type Command = AxisCommand;
+    type Reply = AxisReply;
+    type Snapshot = AxisSnapshot;
+
+    fn command(&mut self, cmd: AxisCommand) -> Result<AxisReply, Rejection> {
+        self.dispatch(cmd)
     }
 
     fn step(&mut self, tick: Tick, events: &mut Vec<CommandEvent>) {
@@ -2337,6 +2403,8 @@ impl Engine for AxisEngine {
             self.fbs.done(id);
         }
         self.instant_done.clear();
+        self.platform_step_pre();
+        self.groups_step(tick.dt);
         for k in 0..self.order.len() {
             let i = self.order[k];
             let master = self.axes[i].coupling.map(|c| {
@@ -2350,8 +2418,11 @@ impl Engine for AxisEngine {
             });
             self.axes[i].step(tick.dt, master, &mut self.fbs);
         }
+        self.platform_step_post();
         self.fbs.in_step = false;
+        let from = events.len();
         events.append(&mut self.fbs.events);
+        self.platform_map_events(&mut events[from..]);
     }
 
     fn snapshot(&self) -> AxisSnapshot {
@@ -2364,10 +2435,22 @@ impl Engine for AxisEngine {
                         master[c.master] = true;
                     }
                 }
+                let starting = self.platform.starting();
                 (0..self.axes.len())
-                    .map(|i| self.axis_status(i, master[i]))
+                    .map(|i| {
+                        let mut s = self.axis_status(i, master[i]);
+                        if starting {
+                            // INIT_STATE during start-up (§9).
+                            s.motion_state = crate::state::MotionState::Undefined;
+                        }
+                        s
+                    })
                     .collect()
             },
+            groups: (0..self.groups.list.len())
+                .map(|g| self.group_status(g))
+                .collect(),
+            platform: self.platform_status(),
         }
     }
 
@@ -2377,10 +2460,16 @@ impl Engine for AxisEngine {
     }
 
     fn error_text(id: ErrorId) -> String {
+        if let Some(t) = crate::platform::ids::text(id) {
+            return format!("{}: {t}", id.0);
+        }
         crate::error_ids::text(id)
     }
 
     fn cancel(&mut self, id: CmdId) -> Result<(), Rejection> {
+        if let Some(r) = self.group_cancel(id) {
+            return r;
+        }
         // A cancelled goal halts the axis with the command's own dynamics (MC_Halt semantics).
         let Some(inst) = self.fbs.get(id).copied() else {
             return Err(reject(

@@ -212,12 +212,14 @@ impl Handshake {
     }
 
     /// The outputs as the FB would show them now.
-    pub fn outputs(&self, id: CmdId) -> Option<FbOutputs> {
+    /// `latch` (isg_mcp, plcopen_platform.md R-HS-2): a final result stays
+    /// until Execute falls instead of showing for one cycle.
+    pub fn outputs_with(&self, id: CmdId, latch: bool) -> Option<FbOutputs> {
         let i = self.instances.get(&id)?;
         if i.state.is_final()
             && !i.execute
             && !i.locked
-            && (i.cleared || self.cycle > i.ended_cycle)
+            && (i.cleared || (!latch && self.cycle > i.ended_cycle))
         {
             return Some(FbOutputs::default());
         }

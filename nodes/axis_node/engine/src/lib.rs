@@ -27,12 +27,33 @@
 //!   (the fields of `msgs/msg/AxisState.msg` plus modulo set values, homing state, raw
 //!   position, SetPosition offset).
 //!
+//! # Part 4 axis groups and the platform profile (plcopen_platform.md)
+//!
+//! * Build with [`AxisEngine::with_config`]`(axes, &EngineConfig)`; [`EngineConfig`]
+//!   deserializes with `deny_unknown_fields`: `platform_profile: tc2_mc2 | isg_mcp` (default
+//!   `tc2_mc2` = exactly the behaviour of `AxisEngine::new`), `groups: [{name, axes}]`
+//!   (members from the start, R-ARCH-4) and `platform` (globals of §2.3, `safety_monitors`,
+//!   `lease_cycles`, per-axis `axes.<name>: {kind, units_per_mm, vb_monitor,
+//!   vb_not_referenced, vb_torq_limit_max, referenced}`).
+//! * Group FBs: `AxisCommand::Group(`[`GroupCommand`]`::MoveLinearAbsolute(..))` etc. Replies
+//!   as for axes (`tracked` for Execute-type FBs; reads carry `ReplyValue::Group(`
+//!   [`GroupReply`]`)`); outputs of a group instance via [`AxisEngine::outputs`] or
+//!   `ReadFbOutputs` (`GroupReply::Outputs`); `SetExecute` releases MC_GroupStop; `cancel`
+//!   = MC_GroupHalt. State: `snapshot().groups` ([`GroupStatus`]) or
+//!   [`AxisEngine::group`].
+//! * Safety/simulation/session services: `AxisCommand::Platform(`[`PlatformCommand`]`)`;
+//!   state in `snapshot().platform` ([`platform::PlatformStatus`]: start-up, order number,
+//!   operating mode, per-axis monitors, referenced, DriveEnabled, MC message buffer).
+//! * Error ids of the platform spec: [`platform::ids`] (1, 4, 4013, 4901…4907, 60241,
+//!   70220, 70225).
+//!
 //! Modules per concept: [`state`] (§2 state machine and admission matrix), [`handshake`]
 //! (§3 Execute handshake), [`buffer`] (§3.6 BufferMode arithmetic), [`params`] (§6 parameter
 //! table), [`modulo`] (§4.8.4), [`superposition`] (§4.9), [`probe`] (§4.5), [`calc`] (§4.7.3,
 //! §4.7.4), `axis` (setpoint generator, monitoring, error reaction), `homing` (§4.10),
 //! `gearing` (§4.12), `torque` (§4.14), `engine` (command screening and FB semantics),
-//! [`config`] (§1.2 defaults).
+//! [`config`] (§1.2 defaults), [`group`] (Part 4 groups), [`platform`] (profile hooks,
+//! safety, start-up).
 
 mod axis;
 pub mod buffer;
@@ -42,10 +63,12 @@ pub mod config;
 mod engine;
 pub mod error_ids;
 mod gearing;
+pub mod group;
 pub mod handshake;
 mod homing;
 pub mod modulo;
 pub mod params;
+pub mod platform;
 pub mod probe;
 pub mod snapshot;
 pub mod state;
@@ -55,6 +78,8 @@ mod torque;
 pub use command::*;
 pub use config::{AxisConfig, FollowingModel};
 pub use engine::{AxisEngine, PowerOutputs};
+pub use group::{GroupCommand, GroupConfig, GroupReply, GroupState, GroupStatus};
 pub use handshake::{FbKind, FbOutputs};
+pub use platform::{EngineConfig, PlatformCommand, PlatformProfile};
 pub use snapshot::{AxisSnapshot, AxisStatus};
 pub use state::MotionState;

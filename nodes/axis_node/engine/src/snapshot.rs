@@ -167,6 +167,10 @@ pub struct AxisSnapshot {
     pub tick: u64,
     /// One entry per axis.
     pub axes: Vec<AxisStatus>,
+    /// One entry per Part 4 axis group (plcopen_platform.md §5).
+    pub groups: Vec<crate::group::GroupStatus>,
+    /// Platform profile, start-up and safety state (plcopen_platform.md §8–§10).
+    pub platform: crate::platform::PlatformStatus,
 }
 
 impl AxisSnapshot {

@@ -1,0 +1,1278 @@
+//! Part 4 FB semantics on the engine: screening, admission, the path jobs and their cycle.
+
+use super::*;
+use crate::axis::{Job, JobKind};
+use crate::command::{AxisReply, BufferMode, ReplyValue};
+use crate::engine::AxisEngine;
+use crate::error_ids::SOFT_LIMIT_TARGET;
+use crate::platform::ids::*;
+use motion_core::{Rejection, State1};
+
+fn reject(id: ErrorId, msg: String) -> Rejection {
+    Rejection::new(id, msg)
+}
+
+fn finite(group: &str, fb: &str, field: &str, v: f64) -> Result<(), Rejection> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(Rejection::not_finite(
+            &format!("group '{group}': {fb}"),
+            field,
+            v,
+        ))
+    }
+}
+
+fn invalid(group: &str, fb: &str, msg: String) -> Rejection {
+    reject(
+        ERR_SIM_INVALID_PARAMETER,
+        format!("group '{group}': {fb}: {msg}"),
+    )
+}
+
+/// Dynamics screening: finite, Velocity > 0 (when given), the rest ≥ 0 (0 = members' limit).
+fn dynamics(group: &str, fb: &str, velocity: Option<f64>, d: &Dyn) -> Result<(), Rejection> {
+    if let Some(v) = velocity {
+        finite(group, fb, "Velocity", v)?;
+    }
+    for (f, x) in [
+        ("Acceleration", d.acceleration),
+        ("Deceleration", d.deceleration),
+        ("Jerk", d.jerk),
+    ] {
+        finite(group, fb, f, x)?;
+    }
+    if let Some(v) = velocity {
+        if v <= 0.0 {
+            return Err(invalid(group, fb, format!("Velocity = {v} must be > 0")));
+        }
+    }
+    for (f, x) in [
+        ("Acceleration", d.acceleration),
+        ("Deceleration", d.deceleration),
+        ("Jerk", d.jerk),
+    ] {
+        if x < 0.0 {
+            return Err(invalid(
+                group,
+                fb,
+                format!("{f} = {x} must be >= 0 (0 = the members' limit)"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn only_aborting(group: &str, fb: &str, m: BufferMode) -> Result<(), Rejection> {
+    if m == BufferMode::Aborting {
+        Ok(())
+    } else {
+        Err(reject(
+            ERR_SIM_NOT_IMPLEMENTED,
+            format!(
+                "group '{group}': {fb}: BufferMode {m:?} is not implemented (only MC_Aborting)"
+            ),
+        ))
+    }
+}
+
+const V_REST: f64 = 1e-9;
+
+impl AxisEngine {
+    fn group_index(&self, name: &str) -> Result<usize, Rejection> {
+        self.groups
+            .index
+            .get(name)
+            .copied()
+            .ok_or_else(|| Rejection::unknown_object("group", name))
+    }
+
+    fn group_untracked(&mut self, value: ReplyValue) -> AxisReply {
+        AxisReply {
+            id: self.fbs.untracked_id(),
+            value,
+            tracked: false,
+        }
+    }
+
+    fn group_admit(
+        &self,
+        g: usize,
+        fb: GroupFbClass,
+        name: &str,
+    ) -> Result<GroupAdmission, Rejection> {
+        let grp = &self.groups.list[g];
+        let state = grp.state(&self.axes);
+        match group_admission(fb, state) {
+            GroupAdmission::Reject(id) => Err(reject(
+                id,
+                format!(
+                    "group '{}': {name} not allowed in state {state:?}",
+                    grp.name
+                ),
+            )),
+            ok => Ok(ok),
+        }
+    }
+
+    /// A new tracked group instance.
+    fn group_instance(&mut self, g: usize, kind: GroupFbKind, state: CommandState) -> CmdId {
+        let id = self.fbs.untracked_id();
+        if self.groups.instances.len() > 4096 {
+            let cycle = self.fbs.cycle;
+            self.groups.instances.retain(|_, i| {
+                !(i.state.is_final() && (!i.execute || i.ended_cycle + 1000 < cycle))
+            });
+        }
+        self.groups.instances.insert(
+            id,
+            GroupInstance {
+                group: g,
+                kind,
+                state,
+                execute: true,
+                ended_cycle: 0,
+                cleared: false,
+            },
+        );
+        id
+    }
+
+    fn group_tracked(id: CmdId) -> AxisReply {
+        AxisReply {
+            id,
+            value: ReplyValue::None,
+            tracked: true,
+        }
+    }
+
+    /// An administrative FB: applied at once, Done in the next cycle.
+    fn group_admin_done(&mut self, g: usize) -> AxisReply {
+        let id = self.group_instance(g, GroupFbKind::Administrative, CommandState::Busy);
+        self.groups.instant_done.push(id);
+        Self::group_tracked(id)
+    }
+
+    /// Member axis indices in IdentInGroup order.
+    fn members(&self, g: usize) -> Vec<usize> {
+        self.groups.list[g].axes().collect()
+    }
+
+    /// Set positions of the members.
+    fn member_set(&self, g: usize) -> Vec<f64> {
+        self.groups.list[g]
+            .axes()
+            .map(|i| self.axes[i].set.pos)
+            .collect()
+    }
+
+    /// One Part 4 FB call.
+    pub(crate) fn group_command(&mut self, cmd: GroupCommand) -> Result<AxisReply, Rejection> {
+        let g = self.group_index(cmd.group())?;
+        let gname = self.groups.list[g].name.clone();
+        match cmd {
+            GroupCommand::AddAxisToGroup(c) => {
+                let fb = "MC_AddAxisToGroup";
+                let ax = self
+                    .index
+                    .get(&c.axis)
+                    .copied()
+                    .ok_or_else(|| Rejection::unknown_object("axis", &c.axis))?;
+                if let Some(other) = self.groups.of_axis[ax] {
+                    let on = &self.groups.list[other].name;
+                    return Err(invalid(
+                        &gname,
+                        fb,
+                        format!("axis '{}' is already in group '{on}'", c.axis),
+                    ));
+                }
+                let grp = &self.groups.list[g];
+                let ident = if c.ident_in_group == 0 {
+                    grp.members.iter().map(|m| m.0).max().unwrap_or(0) + 1
+                } else {
+                    c.ident_in_group
+                };
+                if grp.members.iter().any(|m| m.0 == ident) {
+                    return Err(invalid(
+                        &gname,
+                        fb,
+                        format!("IdentInGroup = {ident} is already used"),
+                    ));
+                }
+                self.group_admit(g, GroupFbClass::Membership, fb)?;
+                let grp = &mut self.groups.list[g];
+                grp.members.push((ident, ax));
+                grp.members.sort_unstable();
+                grp.path.clear();
+                self.groups.of_axis[ax] = Some(g);
+                Ok(self.group_admin_done(g))
+            }
+            GroupCommand::RemoveAxisFromGroup(c) => {
+                let fb = "MC_RemoveAxisFromGroup";
+                let ax = self
+                    .index
+                    .get(&c.axis)
+                    .copied()
+                    .ok_or_else(|| Rejection::unknown_object("axis", &c.axis))?;
+                if self.groups.of_axis[ax] != Some(g) {
+                    return Err(invalid(
+                        &gname,
+                        fb,
+                        format!("axis '{}' is not a member", c.axis),
+                    ));
+                }
+                self.group_admit(g, GroupFbClass::Membership, fb)?;
+                let grp = &mut self.groups.list[g];
+                grp.members.retain(|m| m.1 != ax);
+                grp.path.clear();
+                self.groups.of_axis[ax] = None;
+                Ok(self.group_admin_done(g))
+            }
+            GroupCommand::UngroupAllAxes { .. } => {
+                self.group_admit(g, GroupFbClass::Ungroup, "MC_UngroupAllAxes")?;
+                self.group_abort_motion(g, true);
+                let grp = &mut self.groups.list[g];
+                for (_, ax) in grp.members.drain(..) {
+                    self.groups.of_axis[ax] = None;
+                }
+                grp.path.clear();
+                grp.error = ErrorId::NONE;
+                Ok(self.group_admin_done(g))
+            }
+            GroupCommand::GroupReadConfiguration { ident_in_group, .. } => {
+                let grp = &self.groups.list[g];
+                let list: Vec<(String, u32)> = grp
+                    .members
+                    .iter()
+                    .filter(|m| ident_in_group == 0 || m.0 == ident_in_group)
+                    .map(|m| (self.axes[m.1].name.clone(), m.0))
+                    .collect();
+                if list.is_empty() && ident_in_group != 0 {
+                    return Err(invalid(
+                        &gname,
+                        "MC_GroupReadConfiguration",
+                        format!("IdentInGroup = {ident_in_group} is not a member"),
+                    ));
+                }
+                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Configuration(list))))
+            }
+            GroupCommand::GroupEnable { .. } => {
+                self.group_admit(g, GroupFbClass::Enable, "MCV_GroupEnable")?;
+                self.groups.list[g].disabled = false;
+                Ok(self.group_admin_done(g))
+            }
+            GroupCommand::GroupDisable { .. } => {
+                self.group_admit(g, GroupFbClass::Disable, "MC_GroupDisable")?;
+                self.group_abort_motion(g, true);
+                let grp = &mut self.groups.list[g];
+                grp.disabled = true;
+                grp.error = ErrorId::NONE;
+                Ok(self.group_admin_done(g))
+            }
+            GroupCommand::GroupReset { .. } => {
+                self.group_admit(g, GroupFbClass::Reset, "MC_GrpReset")?;
+                // Member axes in ErrorStop are reset with them (MC_Reset each; in isg_mcp
+                // their MC message buffers are cleared too, R-ERR-3).
+                for ax in self.members(g) {
+                    if !self.axes[ax].error_id.is_none() {
+                        self.reset(ax)?;
+                        if self.platform.isg() {
+                            self.platform.axes[ax].messages.clear();
+                        }
+                    }
+                }
+                let id = self.group_instance(g, GroupFbKind::GroupReset, CommandState::Busy);
+                self.groups.list[g].error = ErrorId::NONE;
+                self.groups.instant_done.push(id);
+                Ok(Self::group_tracked(id))
+            }
+            GroupCommand::GroupReadStatus { .. } => {
+                let s = self.group_status(g);
+                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Status(Box::new(s)))))
+            }
+            GroupCommand::GroupReadError { .. } => {
+                let e = self.groups.list[g].error;
+                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Error(e))))
+            }
+            GroupCommand::GroupReadActualPosition { .. } => {
+                let v = self.groups.list[g]
+                    .axes()
+                    .map(|i| self.axes[i].act_pos)
+                    .collect();
+                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Values(v))))
+            }
+            GroupCommand::GroupReadActualVelocity { .. } => {
+                if self.platform.isg() {
+                    return Err(reject(
+                        ERR_SIM_NOT_IMPLEMENTED,
+                        format!("group '{gname}': MC_GroupReadActualVelocity is not implemented by the ISG platform (§3.2)"),
+                    ));
+                }
+                let v = self.groups.list[g]
+                    .axes()
+                    .map(|i| self.axes[i].act_velo)
+                    .collect();
+                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Values(v))))
+            }
+            GroupCommand::GroupSetOverride(c) => {
+                let fb = "MC_GroupSetOverride";
+                for (f, v) in [
+                    ("VelFactor", c.vel_factor),
+                    ("AccFactor", c.acc_factor),
+                    ("JerkFactor", c.jerk_factor),
+                ] {
+                    finite(&gname, fb, f, v)?;
+                    if c.enable && !(0.0..=1.0).contains(&v) {
+                        return Err(invalid(&gname, fb, format!("{f} = {v} must be in [0, 1]")));
+                    }
+                }
+                if c.enable {
+                    let grp = &mut self.groups.list[g];
+                    grp.override_enabled = true;
+                    if grp.override_factor != c.vel_factor {
+                        grp.override_factor = c.vel_factor;
+                        self.group_replan_override(g);
+                    }
+                } else {
+                    self.groups.list[g].override_enabled = false;
+                }
+                let en = self.groups.list[g].override_enabled;
+                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Enabled(en))))
+            }
+            GroupCommand::MoveLinearAbsolute(c) => self.move_linear(g, c, false),
+            GroupCommand::MoveLinearRelative(c) => self.move_linear(g, c, true),
+            GroupCommand::GroupHalt(c) => {
+                let fb = "MC_GroupHalt";
+                let d = Dyn {
+                    velocity: 0.0,
+                    acceleration: 0.0,
+                    deceleration: c.deceleration,
+                    jerk: c.jerk,
+                };
+                dynamics(&gname, fb, None, &d)?;
+                only_aborting(&gname, fb, c.buffer_mode)?;
+                self.group_admit(g, GroupFbClass::Halt, fb)?;
+                let id = self.group_instance(g, GroupFbKind::GroupHalt, CommandState::Active);
+                self.group_start_stop(g, id, PathKind::Halt, d);
+                Ok(Self::group_tracked(id))
+            }
+            GroupCommand::GroupStop(c) => {
+                let fb = "MC_GroupStop";
+                let d = Dyn {
+                    velocity: 0.0,
+                    acceleration: 0.0,
+                    deceleration: c.deceleration,
+                    jerk: c.jerk,
+                };
+                dynamics(&gname, fb, None, &d)?;
+                self.group_admit(g, GroupFbClass::Stop, fb)?;
+                let id = self.group_instance(g, GroupFbKind::GroupStop, CommandState::Active);
+                // A previous MC_GroupStop is taken over.
+                if let Some(l) = self.groups.list[g].lock.take() {
+                    let st = if l.done {
+                        None
+                    } else {
+                        Some(CommandState::Aborted)
+                    };
+                    if let Some(s) = st {
+                        self.groups.set(&mut self.fbs, l.owner, s);
+                    }
+                }
+                self.groups.list[g].lock = Some(GroupLock {
+                    owner: id,
+                    execute: true,
+                    done: false,
+                });
+                self.group_start_stop(g, id, PathKind::Stop, d);
+                Ok(Self::group_tracked(id))
+            }
+            GroupCommand::PathSelect(c) => {
+                let fb = "MC_PathSelect";
+                let n = self.groups.list[g].members.len();
+                if c.points.is_empty() {
+                    return Err(invalid(&gname, fb, "the path has no points".into()));
+                }
+                for (k, p) in c.points.iter().enumerate() {
+                    if p.len() != n {
+                        return Err(invalid(
+                            &gname,
+                            fb,
+                            format!("point {k} has {} values, the group has {n} axes", p.len()),
+                        ));
+                    }
+                    for (m, v) in p.iter().enumerate() {
+                        finite(&gname, fb, &format!("Points[{k}][{m}]"), *v)?;
+                    }
+                    self.check_soft_limits(g, fb, p)?;
+                }
+                self.group_admit(g, GroupFbClass::ReadWrite, fb)?;
+                self.groups.list[g].path = c.points;
+                Ok(self.group_admin_done(g))
+            }
+            GroupCommand::MovePath(c) => {
+                let fb = "MC_MovePath";
+                let d = Dyn {
+                    velocity: c.velocity,
+                    acceleration: c.acceleration,
+                    deceleration: c.deceleration,
+                    jerk: c.jerk,
+                };
+                dynamics(&gname, fb, Some(c.velocity), &d)?;
+                only_aborting(&gname, fb, c.buffer_mode)?;
+                if self.groups.list[g].path.is_empty() {
+                    return Err(invalid(
+                        &gname,
+                        fb,
+                        "no path selected (MC_PathSelect)".into(),
+                    ));
+                }
+                self.group_admit(g, GroupFbClass::Move, fb)?;
+                self.members_ready(g, fb)?;
+                let first = self.groups.list[g].path[0].clone();
+                self.group_safety_check(g, fb, true, &first, c.velocity)?;
+                let queue: VecDeque<Vec<f64>> = self.groups.list[g].path.iter().cloned().collect();
+                let id = self.group_instance(g, GroupFbKind::MovePath, CommandState::Active);
+                self.group_start_move(g, id, queue, d);
+                Ok(Self::group_tracked(id))
+            }
+            GroupCommand::NotImplemented { fb, .. } => Err(reject(
+                ERR_SIM_NOT_IMPLEMENTED,
+                format!("group '{gname}': {fb} is not implemented (marked * in §3.2)"),
+            )),
+        }
+    }
+
+    fn check_soft_limits(&self, g: usize, fb: &str, p: &[f64]) -> Result<(), Rejection> {
+        for (k, ax) in self.groups.list[g].axes().enumerate() {
+            let a = &self.axes[ax];
+            let c = &a.cfg;
+            if (c.en_max_soft_pos_limit && p[k] > c.max_soft_pos_limit)
+                || (c.en_min_soft_pos_limit && p[k] < c.min_soft_pos_limit)
+            {
+                return Err(reject(
+                    SOFT_LIMIT_TARGET,
+                    format!(
+                        "group '{}': {fb}: target {} of axis '{}' is outside the software limits",
+                        self.groups.list[g].name, p[k], a.name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Members must be at rest or driven by this group (no single-axis motion to take over).
+    fn members_ready(&self, g: usize, fb: &str) -> Result<(), Rejection> {
+        for ax in self.groups.list[g].axes() {
+            let a = &self.axes[ax];
+            let busy = !a.group_motion
+                && (a.job.is_some()
+                    || a.lock.is_some()
+                    || a.homing.is_some()
+                    || a.coupling.is_some()
+                    || a.torque.is_some());
+            if busy {
+                return Err(reject(
+                    ERR_SIM_TRANSITION_NOT_ALLOWED,
+                    format!(
+                        "group '{}': {fb}: member axis '{}' is busy ({:?})",
+                        self.groups.list[g].name,
+                        a.name,
+                        a.state()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn move_linear(
+        &mut self,
+        g: usize,
+        c: MoveLinear,
+        relative: bool,
+    ) -> Result<AxisReply, Rejection> {
+        let (fb, kind) = if relative {
+            ("MC_MoveLinearRelative", GroupFbKind::MoveLinearRelative)
+        } else {
+            ("MC_MoveLinearAbsolute", GroupFbKind::MoveLinearAbsolute)
+        };
+        let gname = &self.groups.list[g].name;
+        let field = if relative { "Distance" } else { "Position" };
+        for (k, v) in c.position.iter().enumerate() {
+            finite(gname, fb, &format!("{field}[{k}]"), *v)?;
+        }
+        let d = Dyn {
+            velocity: c.velocity,
+            acceleration: c.acceleration,
+            deceleration: c.deceleration,
+            jerk: c.jerk,
+        };
+        dynamics(gname, fb, Some(c.velocity), &d)?;
+        let n = self.groups.list[g].members.len();
+        if c.position.len() != n {
+            return Err(invalid(
+                gname,
+                fb,
+                format!(
+                    "{field} has {} values, the group has {n} axes",
+                    c.position.len()
+                ),
+            ));
+        }
+        only_aborting(gname, fb, c.buffer_mode)?;
+        if c.transition_mode != TransitionMode::None {
+            return Err(reject(
+                ERR_SIM_NOT_IMPLEMENTED,
+                format!(
+                    "group '{gname}': {fb}: TransitionMode {:?} is not implemented (only TMNone)",
+                    c.transition_mode
+                ),
+            ));
+        }
+        self.group_admit(g, GroupFbClass::Move, fb)?;
+        self.members_ready(g, fb)?;
+        let target: Vec<f64> = if relative {
+            self.member_set(g)
+                .iter()
+                .zip(&c.position)
+                .map(|(p, d)| p + d)
+                .collect()
+        } else {
+            c.position
+        };
+        self.check_soft_limits(g, fb, &target)?;
+        self.group_safety_check(g, fb, !relative, &target, c.velocity)?;
+        let id = self.group_instance(g, kind, CommandState::Active);
+        self.group_start_move(g, id, VecDeque::from([target]), d);
+        Ok(Self::group_tracked(id))
+    }
+
+    /// The current path state: (start, dir, s-state) of the running job, if moving.
+    fn path_state(&self, g: usize) -> Option<(State1, Vec<f64>)> {
+        let j = self.groups.list[g].job.as_ref()?;
+        let s = j.profile.at(j.t);
+        Some((s, j.dir.clone()))
+    }
+
+    /// Ends the running owner (CommandAborted) when a newer command takes over.
+    fn group_take_over(&mut self, g: usize) {
+        if let Some(owner) = self.groups.list[g].job.as_ref().and_then(|j| j.owner) {
+            self.groups.set(&mut self.fbs, owner, CommandState::Aborted);
+        }
+        if let Some(j) = self.groups.list[g].job.as_mut() {
+            j.owner = None;
+        }
+    }
+
+    /// Starts (or takes over with) a move through `queue`.
+    fn group_start_move(&mut self, g: usize, id: CmdId, mut queue: VecDeque<Vec<f64>>, d: Dyn) {
+        self.group_take_over(g);
+        let members = self.members(g);
+        let here = self.member_set(g);
+        let factor = self.groups.list[g].factor();
+        if let Some((s, dir)) = self
+            .path_state(g)
+            .filter(|(s, _)| s.vel.abs() > V_REST || s.acc.abs() > V_REST)
+        {
+            // Moving: continue along a parallel same-direction line, else stop first.
+            let first = queue.front().cloned().unwrap_or_else(|| here.clone());
+            let (ndir, len) = unit(&here, &first);
+            let dot: f64 = ndir.iter().zip(&dir).map(|(a, b)| a * b).sum();
+            if queue.len() == 1 && len > 0.0 && dot > 1.0 - 1e-9 && s.vel > 0.0 {
+                let l = self.group_limits(&members, &ndir, &d);
+                let l = Limits {
+                    velocity: (l.velocity * factor).max(1e-9),
+                    ..l
+                };
+                let start = State1 {
+                    pos: 0.0,
+                    vel: s.vel,
+                    acc: s.acc,
+                };
+                if let Ok(p) = Profile1::to_position(start, len, 0.0, &l) {
+                    self.groups.list[g].job = Some(PathJob {
+                        owner: Some(id),
+                        kind: PathKind::Move,
+                        start: here,
+                        dir: ndir,
+                        profile: p,
+                        t: 0.0,
+                        dynamics: d,
+                        queue: VecDeque::new(),
+                        paused: factor <= 0.0,
+                        end: first,
+                    });
+                    return;
+                }
+            }
+            // Stop path-true along the old direction with the new deceleration.
+            let stop = self.stop_profile(&members, &dir, s, &d);
+            let end: Vec<f64> = here
+                .iter()
+                .zip(&dir)
+                .map(|(p, u)| p + u * (stop.end().pos - s.pos))
+                .collect();
+            self.groups.list[g].job = Some(PathJob {
+                owner: Some(id),
+                kind: PathKind::Move,
+                start: here.iter().zip(&dir).map(|(p, u)| p - u * s.pos).collect(),
+                dir,
+                profile: stop,
+                t: 0.0,
+                dynamics: d,
+                queue,
+                paused: false,
+                end,
+            });
+            return;
+        }
+        let first = queue.pop_front().unwrap_or_else(|| here.clone());
+        let job = self.plan_segment(g, Some(id), here, first, queue, d);
+        self.groups.list[g].job = Some(job);
+    }
+
+    /// Path limits with the safety caps of the members (R-SAF-5 T1 speed, R-SAF-6 reduced
+    /// speed of non-referenced axes): `v_path ≤ cap_i / |u_i|`.
+    fn group_limits(&self, members: &[usize], dir: &[f64], d: &Dyn) -> Limits {
+        let mut l = path_limits(&self.axes, members, dir, d);
+        for (k, &ax) in members.iter().enumerate() {
+            let u = dir.get(k).copied().unwrap_or(0.0).abs();
+            let cap = self.platform_velocity_cap(ax);
+            if u > 1e-12 && cap.is_finite() {
+                l.velocity = l.velocity.min(cap / u);
+            }
+        }
+        l
+    }
+
+    /// R-SAF-1a/R-SAF-6 for a group order: absolute group moves need referenced members
+    /// (4903); a member's programmed velocity `v · |u_i|` above its monitoring limit raises
+    /// MC error 60241 on that axis (the FB shows ErrorID 1, the group goes to
+    /// GROUP_ERROR_STOP).
+    fn group_safety_check(
+        &mut self,
+        g: usize,
+        fb: &str,
+        absolute: bool,
+        target: &[f64],
+        velocity: f64,
+    ) -> Result<(), Rejection> {
+        if !self.platform.safety() {
+            return Ok(());
+        }
+        let members = self.members(g);
+        let here = self.member_set(g);
+        for &ax in &members {
+            if absolute && !self.platform.axes[ax].referenced {
+                return Err(reject(
+                    ERR_SIM_AXIS_NOT_REFERENCED,
+                    format!(
+                        "group '{}': {fb} needs referenced members; axis '{}' is not (R-SAF-6)",
+                        self.groups.list[g].name, self.axes[ax].name
+                    ),
+                ));
+            }
+        }
+        let (dir, _) = unit(&here, target);
+        for (k, &ax) in members.iter().enumerate() {
+            let cap = self.platform_velocity_cap(ax);
+            let v = velocity.min(if dir[k].abs() > 1e-12 {
+                cap / dir[k].abs()
+            } else {
+                f64::INFINITY
+            }) * dir[k].abs();
+            let p = &self.platform.axes[ax];
+            if p.velocity_lease == 0 && v > p.velocity_limit() {
+                let limit = p.velocity_limit();
+                self.mc_message(ax, MC_PROGRAMMED_VELOCITY_EXCEEDS_LIMIT.0, 1, 1);
+                return Err(reject(
+                    ERR_PLC_AX_MC,
+                    format!(
+                        "group '{}': {fb}: MC error 60241 on axis '{}': programmed velocity {v} exceeds the monitoring limit {limit} (R-SAF-1)",
+                        self.groups.list[g].name, self.axes[ax].name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A rest-to-rest segment from `from` to `to`.
+    fn plan_segment(
+        &self,
+        g: usize,
+        owner: Option<CmdId>,
+        from: Vec<f64>,
+        to: Vec<f64>,
+        queue: VecDeque<Vec<f64>>,
+        d: Dyn,
+    ) -> PathJob {
+        let members = self.members(g);
+        let factor = self.groups.list[g].factor();
+        let (dir, len) = unit(&from, &to);
+        let l = self.group_limits(&members, &dir, &d);
+        let profile = if len <= 0.0 || factor <= 0.0 {
+            Profile1::hold(State1::at_rest(0.0))
+        } else {
+            let l = Limits {
+                velocity: l.velocity * factor,
+                ..l
+            };
+            Profile1::to_position(State1::at_rest(0.0), len, 0.0, &l)
+                .unwrap_or_else(|_| Profile1::hold(State1::at_rest(0.0)))
+        };
+        PathJob {
+            owner,
+            kind: PathKind::Move,
+            start: from,
+            dir,
+            profile,
+            t: 0.0,
+            dynamics: d,
+            queue,
+            paused: factor <= 0.0 && len > 0.0,
+            end: to,
+        }
+    }
+
+    /// A path-true stop from path state `s` along `dir` with `d`'s deceleration and jerk.
+    fn stop_profile(&self, members: &[usize], dir: &[f64], s: State1, d: &Dyn) -> Profile1 {
+        let l = path_limits(&self.axes, members, dir, d);
+        let l = Limits {
+            velocity: l.velocity.max(s.vel.abs()).max(1e-9),
+            acceleration: l.acceleration.max(l.deceleration),
+            ..l
+        };
+        Profile1::stopping(s, &l).unwrap_or_else(|_| Profile1::hold(State1::at_rest(s.pos)))
+    }
+
+    /// MC_GroupHalt / MC_GroupStop: path-true stop of the running motion (or Done at rest).
+    fn group_start_stop(&mut self, g: usize, id: CmdId, kind: PathKind, d: Dyn) {
+        self.group_take_over(g);
+        let members = self.members(g);
+        let here = self.member_set(g);
+        let job = match self.groups.list[g].job.take() {
+            Some(j) => {
+                let s = j.profile.at(j.t);
+                let stop = self.stop_profile(&members, &j.dir, s, &d);
+                let origin = stop.at(0.0).pos;
+                let start: Vec<f64> = here
+                    .iter()
+                    .zip(&j.dir)
+                    .map(|(p, u)| p - u * origin)
+                    .collect();
+                let end = start
+                    .iter()
+                    .zip(&j.dir)
+                    .map(|(p, u)| p + u * stop.end().pos)
+                    .collect();
+                PathJob {
+                    owner: Some(id),
+                    kind,
+                    start,
+                    dir: j.dir,
+                    profile: stop,
+                    t: 0.0,
+                    dynamics: d,
+                    queue: VecDeque::new(),
+                    paused: false,
+                    end,
+                }
+            }
+            None => PathJob {
+                owner: Some(id),
+                kind,
+                start: here.clone(),
+                dir: vec![0.0; here.len()],
+                profile: Profile1::hold(State1::at_rest(0.0)),
+                t: 0.0,
+                dynamics: d,
+                queue: VecDeque::new(),
+                paused: false,
+                end: here,
+            },
+        };
+        self.groups.list[g].job = Some(job);
+    }
+
+    /// MC_GroupSetOverride changed the factor: replan the running move from its path state.
+    fn group_replan_override(&mut self, g: usize) {
+        let members = self.members(g);
+        let factor = self.groups.list[g].factor();
+        let Some(j) = self.groups.list[g].job.as_ref() else {
+            return;
+        };
+        if j.kind != PathKind::Move {
+            return;
+        }
+        let s = j.profile.at(j.t);
+        let len: f64 = j
+            .end
+            .iter()
+            .zip(&j.start)
+            .zip(&j.dir)
+            .map(|((e, st), u)| (e - st) * u)
+            .sum();
+        let l = self.group_limits(&members, &j.dir, &j.dynamics);
+        let profile = if factor <= 0.0 {
+            self.stop_profile(&members, &j.dir, s, &j.dynamics)
+        } else {
+            let l = Limits {
+                velocity: (l.velocity * factor).max(1e-9),
+                ..l
+            };
+            match Profile1::to_position(s, len, 0.0, &l) {
+                Ok(p) => p,
+                Err(_) => return,
+            }
+        };
+        if let Some(j) = self.groups.list[g].job.as_mut() {
+            // Keep the path coordinate: the new profile starts at s.pos.
+            j.profile = profile;
+            j.t = 0.0;
+            j.paused = factor <= 0.0;
+        }
+    }
+
+    /// Ends the group motion and hands the members back (disable, ungroup): owners
+    /// CommandAborted, moving members brake on their own with AxisDec/AxisJerk.
+    pub(crate) fn group_abort_motion(&mut self, g: usize, abort_lock: bool) {
+        self.group_take_over(g);
+        self.groups.list[g].job = None;
+        if abort_lock {
+            if let Some(l) = self.groups.list[g].lock.take() {
+                if !l.done {
+                    self.groups
+                        .set(&mut self.fbs, l.owner, CommandState::Aborted);
+                }
+            }
+        }
+        self.release_members(g, false);
+    }
+
+    /// Members no longer driven by the group; moving ones get a stop ramp.
+    fn release_members(&mut self, g: usize, fast: bool) {
+        for ax in self.members(g) {
+            let a = &mut self.axes[ax];
+            if !a.group_motion {
+                continue;
+            }
+            a.group_motion = false;
+            if a.moving() && a.error_id.is_none() && a.controller_on {
+                let l = if fast {
+                    a.fast_limits()
+                } else {
+                    Limits {
+                        velocity: a.cfg.max_velocity,
+                        acceleration: a.cfg.acceleration,
+                        deceleration: a.cfg.deceleration,
+                        jerk: a.cfg.jerk,
+                    }
+                };
+                let profile = a.plan_stop(&l);
+                let stop = profile.end().pos;
+                a.start_job(Job::internal(JobKind::FastStop, profile, stop, l));
+            }
+        }
+    }
+
+    /// One cycle of every group: error latch, path interpolation (members' set values).
+    /// Runs before the axes step (they then compute actual values and monitoring).
+    pub(crate) fn groups_step(&mut self, dt: f64) {
+        for k in 0..self.groups.instant_done.len() {
+            let id = self.groups.instant_done[k];
+            self.groups.set(&mut self.fbs, id, CommandState::Done);
+        }
+        self.groups.instant_done.clear();
+        let hold = self.platform.feed_hold();
+        for g in 0..self.groups.list.len() {
+            self.groups.list[g].slot = false;
+            if self.groups.list[g].held != hold {
+                self.groups.list[g].held = hold;
+                self.group_replan_override(g);
+            }
+            self.group_step(g, dt);
+        }
+    }
+
+    fn group_step(&mut self, g: usize, dt: f64) {
+        let grp = &self.groups.list[g];
+        if grp.members.is_empty() {
+            return;
+        }
+        // Member error → GROUP_ERROR_STOP (latched until MC_GrpReset).
+        let member_error = grp.axes().any(|i| !self.axes[i].error_id.is_none());
+        if member_error && !grp.disabled && grp.error.is_none() {
+            self.groups.list[g].error = ERR_PLC_AX_MC;
+            let owner = self.groups.list[g].job.as_ref().and_then(|j| j.owner);
+            let lock = self.groups.list[g].lock.take().map(|l| l.owner);
+            for id in owner.into_iter().chain(lock) {
+                self.groups
+                    .set(&mut self.fbs, id, CommandState::Error(ERR_PLC_AX_MC));
+            }
+            if let Some(j) = self.groups.list[g].job.as_mut() {
+                j.owner = None;
+            }
+            self.groups.list[g].job = None;
+            self.release_members(g, true);
+            return;
+        }
+        // A member lost power (MC_Power off): the motion is aborted, the group is disabled.
+        let powered = self.groups.list[g]
+            .axes()
+            .all(|i| self.axes[i].controller_on && self.axes[i].status);
+        if !powered && self.groups.list[g].job.is_some() {
+            self.group_abort_motion(g, true);
+            return;
+        }
+        // MC_GroupStop lock released at rest with Execute FALSE.
+        if let Some(l) = self.groups.list[g].lock {
+            if l.done && !l.execute && self.groups.list[g].job.is_none() {
+                self.groups.list[g].lock = None;
+            }
+        }
+        // Interpolation (no alloc, no lock): every member on the line at s(t).
+        let grp = &mut self.groups.list[g];
+        let Some(job) = grp.job.as_mut() else {
+            grp.path_vel = 0.0;
+            grp.path_acc = 0.0;
+            return;
+        };
+        job.t += dt;
+        let s = job.profile.at(job.t);
+        let ended = job.t >= job.profile.duration() && !job.paused;
+        for (k, &(_, ax)) in grp.members.iter().enumerate() {
+            let a = &mut self.axes[ax];
+            let u = job.dir[k];
+            a.job = None;
+            a.group_motion = true;
+            a.set = State1 {
+                pos: job.start[k] + u * s.pos,
+                vel: u * s.vel,
+                acc: u * s.acc,
+            };
+            a.target_pos = job.end[k];
+        }
+        grp.path_vel = s.vel;
+        grp.path_acc = s.acc;
+        if !ended {
+            return;
+        }
+        let members = self.members(g);
+        // Segment end: exactly at its end point, at rest.
+        let Some(mut job) = self.groups.list[g].job.take() else {
+            return;
+        };
+        let end_pos = job.profile.end().pos;
+        for (k, &ax) in members.iter().enumerate() {
+            let a = &mut self.axes[ax];
+            let p = job.start[k] + job.dir[k] * end_pos;
+            a.set = State1::at_rest(p);
+            a.target_pos = p;
+            a.last_target = Some(p);
+        }
+        self.groups.list[g].path_vel = 0.0;
+        self.groups.list[g].path_acc = 0.0;
+        if let Some(next) = job.queue.pop_front() {
+            let here = self.member_set(g);
+            let queue = std::mem::take(&mut job.queue);
+            let nj = self.plan_segment(g, job.owner, here, next, queue, job.dynamics);
+            self.groups.list[g].job = Some(nj);
+            return;
+        }
+        for &ax in &members {
+            self.axes[ax].group_motion = false;
+        }
+        match job.kind {
+            PathKind::Move | PathKind::Halt => {
+                if let Some(id) = job.owner {
+                    self.groups.set(&mut self.fbs, id, CommandState::Done);
+                }
+            }
+            PathKind::Stop => {
+                if let Some(l) = self.groups.list[g].lock.as_mut() {
+                    l.done = true;
+                    let (owner, execute) = (l.owner, l.execute);
+                    self.groups.set(&mut self.fbs, owner, CommandState::Done);
+                    if !execute {
+                        self.groups.list[g].lock = None;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The group of a command instance's Execute falling edge (MC_GroupStop unlock).
+    pub(crate) fn group_set_execute(&mut self, id: CmdId, execute: bool) -> Option<AxisReply> {
+        let i = self.groups.instances.get_mut(&id)?;
+        if i.execute && !execute && i.state.is_final() {
+            i.cleared = true;
+        }
+        i.execute = execute;
+        let (g, kind) = (i.group, i.kind);
+        if kind == GroupFbKind::GroupStop && !execute {
+            let grp = &mut self.groups.list[g];
+            if let Some(l) = grp.lock.as_mut().filter(|l| l.owner == id) {
+                l.execute = false;
+                if l.done {
+                    grp.lock = None;
+                }
+            }
+        }
+        Some(Self::group_tracked(id))
+    }
+
+    /// Cancel of a group motion goal = MC_GroupHalt with the command's own deceleration.
+    pub(crate) fn group_cancel(&mut self, id: CmdId) -> Option<Result<(), Rejection>> {
+        let i = *self.groups.instances.get(&id)?;
+        if i.state.is_final() {
+            return Some(Ok(()));
+        }
+        let g = i.group;
+        let running = self.groups.list[g]
+            .job
+            .as_ref()
+            .filter(|j| j.owner == Some(id) && j.kind == PathKind::Move)
+            .map(|j| j.dynamics);
+        if let Some(d) = running {
+            let hid = self.group_instance(g, GroupFbKind::GroupHalt, CommandState::Active);
+            self.group_start_stop(g, hid, PathKind::Halt, d);
+        }
+        Some(Ok(()))
+    }
+
+    /// Outputs of a group instance (the active profile's Execute rules).
+    pub fn group_outputs(&self, id: CmdId) -> Option<ExecuteOutputs> {
+        self.groups.outputs(id, self.fbs.cycle, self.platform.isg())
+    }
+
+    /// The status of one group (MC_GroupReadStatus and the snapshot).
+    pub(crate) fn group_status(&self, g: usize) -> GroupStatus {
+        let grp = &self.groups.list[g];
+        let state = grp.state(&self.axes);
+        let v = grp.path_vel;
+        let a = grp.path_acc;
+        let moving = v.abs() > V_REST;
+        GroupStatus {
+            name: grp.name.clone(),
+            state,
+            group_moving: state == GroupState::Moving,
+            group_homing: state == GroupState::Homing,
+            group_error_stop: state == GroupState::ErrorStop,
+            group_standby: state == GroupState::Standby,
+            group_stopping: state == GroupState::Stopping,
+            group_disabled: state == GroupState::Disabled,
+            constant_velocity: moving && a.abs() <= 1e-9,
+            accelerating: moving && a * v > 1e-9,
+            decelerating: moving && a * v < -1e-9,
+            in_position: grp.job.is_none()
+                && grp.axes().all(|i| {
+                    let x = &self.axes[i];
+                    (x.act_pos - x.set.pos).abs() <= x.cfg.position_range_window
+                }),
+            axes: grp.axes().map(|i| self.axes[i].name.clone()).collect(),
+            idents: grp.members.iter().map(|m| m.0).collect(),
+            error_id: grp.error,
+            override_factor: grp.override_factor,
+            path_velocity: v,
+            path_acceleration: a,
+            set_position: grp.axes().map(|i| self.axes[i].set.pos).collect(),
+            act_position: grp.axes().map(|i| self.axes[i].act_pos).collect(),
+            path_points: grp.path.len(),
+        }
+    }
+
+    /// The status of a group by name.
+    pub fn group(&self, name: &str) -> Option<GroupStatus> {
+        self.groups.index.get(name).map(|&g| self.group_status(g))
+    }
+
+    /// Group names in configuration order.
+    pub fn group_names(&self) -> impl Iterator<Item = &str> {
+        self.groups.list.iter().map(|g| g.name.as_str())
+    }
+
+    /// A Part 4 call through the profile's start-up and version checks (§9, R-SAF-2).
+    pub(crate) fn group_command_screened(
+        &mut self,
+        cmd: GroupCommand,
+    ) -> Result<AxisReply, Rejection> {
+        let read = matches!(
+            cmd,
+            GroupCommand::GroupReadStatus { .. }
+                | GroupCommand::GroupReadError { .. }
+                | GroupCommand::GroupReadActualPosition { .. }
+                | GroupCommand::GroupReadActualVelocity { .. }
+                | GroupCommand::GroupReadConfiguration { .. }
+        );
+        if self.platform.isg() && !read {
+            if self.platform.version_mismatch {
+                return Err(reject(
+                    ERR_SIM_VERSION_MISMATCH,
+                    format!(
+                        "group '{}': HLI version/size mismatch (R-SAF-2)",
+                        cmd.group()
+                    ),
+                ));
+            }
+            if self.platform.starting() {
+                return Err(reject(
+                    ERR_PO_AX_TNA_INIT_STATE,
+                    format!("group '{}': order during start-up (§9)", cmd.group()),
+                ));
+            }
+        }
+        // R-SAF-5: in T1/T2 group motions need the enabling switch.
+        let motion = matches!(
+            cmd,
+            GroupCommand::MoveLinearAbsolute(_)
+                | GroupCommand::MoveLinearRelative(_)
+                | GroupCommand::MovePath(_)
+        );
+        if motion
+            && self.platform.safety()
+            && self.platform.mode != crate::platform::OperatingMode::Auto
+            && !self.platform.enabling_switch
+        {
+            return Err(reject(
+                ERR_SIM_TRANSITION_NOT_ALLOWED,
+                format!(
+                    "group '{}': motion in {:?} needs the enabling switch (R-SAF-5)",
+                    cmd.group(),
+                    self.platform.mode
+                ),
+            ));
+        }
+        // R-HS-3/R-HS-4 on the group's channel slot: one order per cycle, MC_GroupStop
+        // overwrites; reads and MC_GroupSetOverride use no slot.
+        let order =
+            self.platform.isg() && !read && !matches!(cmd, GroupCommand::GroupSetOverride(_));
+        let g = self.group_index(cmd.group())?;
+        if order && self.groups.list[g].slot && !matches!(cmd, GroupCommand::GroupStop(_)) {
+            return Err(reject(
+                FB_ERR_MC_DID_NOT_TAKE_ORDER,
+                format!(
+                    "group '{}': the channel's order slot is already used in this cycle (R-HS-3)",
+                    cmd.group()
+                ),
+            ));
+        }
+        let reply = self.group_command(cmd)?;
+        if order {
+            self.groups.list[g].slot = true;
+            self.platform
+                .order_ids
+                .insert(reply.id, self.platform.g_order_id);
+            self.platform.g_order_id = self.platform.g_order_id.wrapping_add(1);
+        }
+        Ok(reply)
+    }
+
+    /// Single-axis motion FBs on a member of a moving or stopping group are refused.
+    pub(crate) fn group_screen_axis_command(
+        &self,
+        ax: usize,
+        cmd: &crate::command::AxisCommand,
+    ) -> Result<(), Rejection> {
+        use crate::command::AxisCommand::*;
+        let fb = match cmd {
+            MoveAbsolute(_) => "MC_MoveAbsolute",
+            MoveRelative(_) => "MC_MoveRelative",
+            MoveAdditive(_) => "MC_MoveAdditive",
+            MoveModulo(_) => "MC_MoveModulo",
+            MoveVelocity(_) => "MC_MoveVelocity",
+            MoveContinuousAbsolute(_) => "MC_MoveContinuousAbsolute",
+            MoveContinuousRelative(_) => "MC_MoveContinuousRelative",
+            Halt(_) => "MC_Halt",
+            Stop(_) => "MC_Stop",
+            Home(_) => "MC_Home",
+            Jog(_) => "MC_Jog",
+            GearIn(_) => "MC_GearIn",
+            GearInDyn(_) => "MC_GearInDyn",
+            GearOut(_) => "MC_GearOut",
+            TorqueControl(_) => "MC_TorqueControl",
+            MoveSuperImposed(_) => "MC_MoveSuperImposed",
+            SetPosition(_) => "MC_SetPosition",
+            Reset(_) if self.axes[ax].error_id.is_none() => "MC_Reset",
+            _ => return Ok(()),
+        };
+        self.group_blocks_axis(ax, fb)
+    }
+
+    /// Hook for single-axis commands: a member of a moving/stopping group refuses motion.
+    pub(crate) fn group_blocks_axis(&self, ax: usize, fb: &str) -> Result<(), Rejection> {
+        let Some(g) = self.groups.of_axis.get(ax).copied().flatten() else {
+            return Ok(());
+        };
+        let grp = &self.groups.list[g];
+        if grp.job.is_some() || grp.lock.is_some() {
+            let id = if self.platform.isg() {
+                ERR_SIM_TRANSITION_NOT_ALLOWED
+            } else {
+                crate::error_ids::AXIS_CANNOT_BE_STARTED
+            };
+            return Err(reject(
+                id,
+                format!(
+                    "axis '{}': {fb} not allowed while its group '{}' is {:?}",
+                    self.axes[ax].name,
+                    grp.name,
+                    grp.state(&self.axes)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Builds the groups of the configuration (R-ARCH-4).
+    pub(crate) fn build_groups(&mut self, cfg: &[GroupConfig]) -> Result<(), Rejection> {
+        self.groups.of_axis = vec![None; self.axes.len()];
+        for (k, gc) in cfg.iter().enumerate() {
+            if gc.name.is_empty() {
+                return Err(reject(
+                    ErrorId::VALUE_OUT_OF_RANGE,
+                    format!("group #{k}: empty group name"),
+                ));
+            }
+            if self.groups.index.insert(gc.name.clone(), k).is_some() {
+                return Err(reject(
+                    ErrorId::VALUE_OUT_OF_RANGE,
+                    format!("group '{}' is configured twice", gc.name),
+                ));
+            }
+            let mut grp = Group::new(gc.name.clone());
+            for (m, name) in gc.axes.iter().enumerate() {
+                let ax = self
+                    .index
+                    .get(name)
+                    .copied()
+                    .ok_or_else(|| Rejection::unknown_object("axis", name))?;
+                if let Some(o) = self.groups.of_axis[ax] {
+                    return Err(reject(
+                        ERR_SIM_INVALID_PARAMETER,
+                        format!(
+                            "group '{}': axis '{name}' is already in group '{}'",
+                            gc.name, cfg[o].name
+                        ),
+                    ));
+                }
+                self.groups.of_axis[ax] = Some(k);
+                grp.members.push((m as u32 + 1, ax));
+            }
+            self.groups.list.push(grp);
+        }
+        Ok(())
+    }
+}
+
+/// Unit direction and length from `a` to `b` (zero direction for zero length).
+fn unit(a: &[f64], b: &[f64]) -> (Vec<f64>, f64) {
+    let d: Vec<f64> = b.iter().zip(a).map(|(x, y)| x - y).collect();
+    let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if len <= 1e-12 {
+        return (vec![0.0; d.len()], 0.0);
+    }
+    (d.iter().map(|x| x / len).collect(), len)
+}

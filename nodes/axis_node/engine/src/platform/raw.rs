@@ -1,0 +1,425 @@
+//! Raw FB layer (plcopen_platform.md §12.2, §4, §6.3): exact PLC emulation for tests.
+//!
+//! [`AxisEngine::fb_cycle`] runs one PLC cycle: the listed FB instances are called in the
+//! given order with their inputs (instances not listed are not called), then the MC runs one
+//! cycle. Each instance has the FB_IDLE / FB_ACTIVE / FB_ERROR states of R-FB-1, keeps its
+//! order number (§4.3; a re-trigger while ACTIVE reuses it, R-FB-3) and takes only the
+//! acknowledgements of its own orders from its axis' single acknowledgement queue (R-HS-5):
+//! an acknowledgement nobody consumes blocks all later ones of that axis ("clogging"); after
+//! more than 2 cycles at the head, warning 4906 is recorded. Done/CommandAborted/Error are
+//! latched until Execute falls (R-HS-2).
+
+use super::ids::*;
+use crate::command::{AxisCommand, AxisReply};
+use crate::engine::AxisEngine;
+use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, Tick};
+use serde::{Deserialize, Serialize};
+use std::collections::{HashMap, VecDeque};
+
+/// One FB call of a PLC cycle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FbCall {
+    /// Instance name (the PLC's FB instance variable).
+    pub instance: String,
+    /// Execute input.
+    pub execute: bool,
+    /// The FB with its other inputs (including the axis = AXIS_REF).
+    pub fb: AxisCommand,
+}
+
+/// FB-internal state (R-FB-1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FbState {
+    /// FB_IDLE.
+    #[default]
+    Idle,
+    /// FB_ACTIVE: order(s) placed, collecting acknowledgements.
+    Active,
+    /// FB_ERROR: the last order attempt failed.
+    Error,
+}
+
+/// Outputs of a called instance.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FbOut {
+    /// Instance name.
+    pub instance: String,
+    /// Done.
+    pub done: bool,
+    /// Busy.
+    pub busy: bool,
+    /// Active.
+    pub active: bool,
+    /// CommandAborted.
+    pub command_aborted: bool,
+    /// Error.
+    pub error: bool,
+    /// ErrorID.
+    pub error_id: ErrorId,
+    /// InVelocity (MC_MoveVelocity).
+    pub in_velocity: bool,
+    /// Order number (0 = none yet).
+    pub order_id: u32,
+    /// Orders in flight under that number.
+    pub in_flight: u32,
+    /// FB-internal state.
+    pub fb_state: FbState,
+}
+
+/// An acknowledgement posted by the MC (R-HS-5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AckKind {
+    /// The order was taken.
+    Accepted,
+    /// MC_MoveVelocity reached the velocity.
+    InVelocity,
+    /// Finished.
+    Done,
+    /// Aborted by a newer order.
+    Aborted,
+    /// Ended with an error.
+    Error(ErrorId),
+}
+
+/// A warning of the raw layer (4906 clog).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RawWarning {
+    /// Cycle of detection.
+    pub cycle: u64,
+    /// Axis name.
+    pub axis: String,
+    /// Warning id (4906).
+    pub id: ErrorId,
+    /// Order number of the acknowledgement lying in the slot.
+    pub order_id: u32,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Ack {
+    owner: usize,
+    kind: AckKind,
+    posted: u64,
+    order_id: u32,
+}
+
+#[derive(Clone, Debug, Default)]
+struct Inst {
+    name: String,
+    axis: usize,
+    state: FbState,
+    prev_execute: bool,
+    order_id: u32,
+    in_flight: u32,
+    engine: Vec<CmdId>,
+    out: FbOut,
+    in_velocity_acked: bool,
+    /// FB_RETRY (§4.1): the order that found the slot occupied and the retries left
+    /// (`MAX_RETRIALS`).
+    retry: Option<(AxisCommand, u32)>,
+}
+
+/// Raw-layer state (instances and acknowledgement queues).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Raw {
+    instances: Vec<Inst>,
+    by_name: HashMap<String, usize>,
+    owner_of: HashMap<CmdId, usize>,
+    acks: Vec<VecDeque<Ack>>,
+    clog_warned: Vec<Option<(usize, u32)>>,
+    accepted: Vec<(usize, usize, u32)>,
+    cycle: u64,
+    pub(crate) warnings: Vec<RawWarning>,
+}
+
+impl AxisEngine {
+    /// One PLC cycle of the raw FB layer (§12.2): calls in order, then one MC cycle. Events of
+    /// commands not owned by raw instances are appended to `events`.
+    pub fn fb_cycle(
+        &mut self,
+        tick: Tick,
+        calls: &[FbCall],
+        events: &mut Vec<CommandEvent>,
+    ) -> Vec<FbOut> {
+        let n_axes = self.axes.len();
+        if self.raw.acks.len() != n_axes {
+            self.raw.acks = vec![VecDeque::new(); n_axes];
+            self.raw.clog_warned = vec![None; n_axes];
+        }
+        let mut outs = Vec::with_capacity(calls.len());
+        for call in calls {
+            outs.push(self.raw_call(call));
+        }
+        // (3) the MC consumes the orders: aborts caused by them first, then ACCEPTED, then
+        // what the cycle itself produces.
+        let mut pre = std::mem::take(&mut self.fbs.events);
+        let mut evs = Vec::new();
+        self.raw_post_events(&mut pre, events);
+        for (inst, axis, order_id) in std::mem::take(&mut self.raw.accepted) {
+            self.raw.acks[axis].push_back(Ack {
+                owner: inst,
+                kind: AckKind::Accepted,
+                posted: self.raw.cycle,
+                order_id,
+            });
+        }
+        Engine::step(self, tick, &mut evs);
+        self.raw_post_events(&mut evs, events);
+        // InVelocity acknowledgements.
+        for k in 0..self.raw.instances.len() {
+            let i = &self.raw.instances[k];
+            if i.state != FbState::Active || i.in_velocity_acked {
+                continue;
+            }
+            let iv = i
+                .engine
+                .last()
+                .and_then(|&id| self.fbs.outputs_with(id, false))
+                .is_some_and(|o| o.in_velocity);
+            if iv {
+                let (axis, order_id) = (i.axis, i.order_id);
+                self.raw.instances[k].in_velocity_acked = true;
+                self.raw.acks[axis].push_back(Ack {
+                    owner: k,
+                    kind: AckKind::InVelocity,
+                    posted: self.raw.cycle,
+                    order_id,
+                });
+            }
+        }
+        // Clog watchdog: the same acknowledgement at the head for more than 2 cycles.
+        for ax in 0..n_axes {
+            if let Some(h) = self.raw.acks[ax].front().copied() {
+                let key = Some((h.owner, h.order_id));
+                if self.raw.cycle > h.posted + 2 && self.raw.clog_warned[ax] != key {
+                    self.raw.clog_warned[ax] = key;
+                    self.raw.warnings.push(RawWarning {
+                        cycle: self.raw.cycle,
+                        axis: self.axes[ax].name.clone(),
+                        id: ERR_SIM_HLI_ACK_CLOG,
+                        order_id: h.order_id,
+                    });
+                }
+            }
+        }
+        self.raw.cycle += 1;
+        outs
+    }
+
+    /// Warnings of the raw layer so far (4906).
+    pub fn raw_warnings(&self) -> &[RawWarning] {
+        &self.raw.warnings
+    }
+
+    fn raw_post_events(&mut self, evs: &mut Vec<CommandEvent>, out: &mut Vec<CommandEvent>) {
+        for e in evs.drain(..) {
+            let Some(&k) = self.raw.owner_of.get(&e.id) else {
+                out.push(e);
+                continue;
+            };
+            let kind = match e.state {
+                CommandState::Done => AckKind::Done,
+                CommandState::Aborted => AckKind::Aborted,
+                CommandState::Error(id) => AckKind::Error(self.platform_error_id(e.id, id)),
+                CommandState::Busy | CommandState::Active => continue,
+            };
+            let i = &self.raw.instances[k];
+            let (axis, order_id) = (i.axis, i.order_id);
+            self.raw.acks[axis].push_back(Ack {
+                owner: k,
+                kind,
+                posted: self.raw.cycle,
+                order_id,
+            });
+        }
+    }
+
+    fn raw_call(&mut self, call: &FbCall) -> FbOut {
+        let k = match self.raw.by_name.get(&call.instance) {
+            Some(&k) => k,
+            None => {
+                let k = self.raw.instances.len();
+                self.raw.instances.push(Inst {
+                    name: call.instance.clone(),
+                    ..Inst::default()
+                });
+                self.raw.by_name.insert(call.instance.clone(), k);
+                k
+            }
+        };
+        let axis = call.fb.axis().and_then(|n| self.index.get(n).copied());
+        // Consume this instance's acknowledgements at the head of its axis' queue.
+        let qa = self.raw.instances[k].axis;
+        if self.raw.instances[k].state == FbState::Active {
+            while let Some(h) = self.raw.acks[qa].front().copied() {
+                if h.owner != k {
+                    break;
+                }
+                self.raw.acks[qa].pop_front();
+                if self.raw.clog_warned[qa].is_some_and(|w| w.0 == k) {
+                    self.raw.clog_warned[qa] = None;
+                }
+                let i = &mut self.raw.instances[k];
+                match h.kind {
+                    AckKind::Accepted => {
+                        i.out.busy = true;
+                        i.out.active = true;
+                    }
+                    AckKind::InVelocity => i.out.in_velocity = true,
+                    AckKind::Done => {
+                        i.in_flight = i.in_flight.saturating_sub(1);
+                        if i.in_flight == 0 {
+                            i.out.done = true;
+                            i.out.busy = false;
+                            i.out.active = false;
+                            i.state = FbState::Idle;
+                        }
+                    }
+                    AckKind::Aborted => {
+                        i.in_flight = i.in_flight.saturating_sub(1);
+                        if i.in_flight == 0 {
+                            i.out.command_aborted = true;
+                            i.out.busy = false;
+                            i.out.active = false;
+                            i.state = FbState::Idle;
+                        }
+                    }
+                    AckKind::Error(e) => {
+                        i.in_flight = 0;
+                        i.out.error = true;
+                        i.out.error_id = e;
+                        i.out.busy = false;
+                        i.out.active = false;
+                        i.state = FbState::Idle;
+                    }
+                }
+            }
+        }
+        let i = &mut self.raw.instances[k];
+        let rising = call.execute && !i.prev_execute;
+        let falling = !call.execute && i.prev_execute;
+        i.prev_execute = call.execute;
+        if falling {
+            // R-HS-2: final results are cleared only by the falling edge.
+            i.out.done = false;
+            i.out.command_aborted = false;
+            i.out.error = false;
+            i.out.error_id = ErrorId::NONE;
+        }
+        // FB_RETRY: a pending order is tried again in this call (R-HS-3 with MAX_RETRIALS).
+        if !rising {
+            if let Some((fb, left)) = i.retry.take() {
+                let state = i.state;
+                match self.dispatch(fb.clone()) {
+                    Ok(reply) => {
+                        let ax = self.raw.instances[k].axis;
+                        self.raw_placed(k, ax, state, &reply);
+                    }
+                    Err(r) if r.error_id == FB_ERR_MC_DID_NOT_TAKE_ORDER && left > 1 => {
+                        self.raw.instances[k].retry = Some((fb, left - 1));
+                    }
+                    Err(r) => self.raw_error(k, state, r.error_id),
+                }
+                return self.raw_out(k);
+            }
+        }
+        if rising {
+            let state = i.state;
+            let Some(ax) = axis else {
+                i.state = FbState::Error;
+                i.out.error = true;
+                i.out.error_id = ErrorId::UNKNOWN_OBJECT;
+                return self.raw_out(k);
+            };
+            if state == FbState::Active && ax != i.axis {
+                i.out.error = true;
+                i.out.error_id = ERR_SIM_AXIS_REF_CHANGED;
+                return self.raw_out(k);
+            }
+            match self.dispatch(call.fb.clone()) {
+                Ok(reply) => self.raw_placed(k, ax, state, &reply),
+                Err(r)
+                    if r.error_id == FB_ERR_MC_DID_NOT_TAKE_ORDER
+                        && self.platform.cfg.max_retrials > 0 =>
+                {
+                    let i = &mut self.raw.instances[k];
+                    i.axis = ax;
+                    i.retry = Some((call.fb.clone(), self.platform.cfg.max_retrials));
+                    i.out.busy = true;
+                }
+                Err(r) => self.raw_error(k, state, r.error_id),
+            }
+        }
+        self.raw_out(k)
+    }
+
+    /// The order attempt failed: FB-level error (nothing sent, §4.2).
+    fn raw_error(&mut self, k: usize, state: FbState, id: ErrorId) {
+        let i = &mut self.raw.instances[k];
+        i.out.error = true;
+        i.out.error_id = id;
+        i.out.done = false;
+        i.out.command_aborted = false;
+        if state != FbState::Active {
+            i.state = FbState::Error;
+            i.out.busy = false;
+            i.out.active = false;
+        }
+    }
+
+    fn raw_placed(&mut self, k: usize, ax: usize, state: FbState, reply: &AxisReply) {
+        let i = &mut self.raw.instances[k];
+        if !reply.tracked {
+            // Read FBs and MC_Power: no order, done at once.
+            i.out = FbOut {
+                done: true,
+                ..FbOut::default()
+            };
+            i.state = FbState::Idle;
+            return;
+        }
+        self.raw.owner_of.insert(reply.id, k);
+        let placed = self.platform.order_ids.get(&reply.id).copied().unwrap_or(0);
+        let i = &mut self.raw.instances[k];
+        if state == FbState::Active {
+            // Re-trigger: the same order number, one more in flight (§4.3).
+            if placed != 0 {
+                self.platform.g_order_id = self.platform.g_order_id.wrapping_sub(1);
+                self.platform.order_ids.insert(reply.id, i.order_id);
+            }
+            i.in_flight += 1;
+        } else {
+            i.order_id = placed;
+            i.in_flight = 1;
+            // R-HS-2: a latched Done/CommandAborted/Error stays until Execute falls, also
+            // across a new trigger.
+            i.out = FbOut {
+                done: i.out.done,
+                command_aborted: i.out.command_aborted,
+                error: i.out.error,
+                error_id: i.out.error_id,
+                ..FbOut::default()
+            };
+            i.in_velocity_acked = false;
+        }
+        i.axis = ax;
+        i.state = FbState::Active;
+        i.out.busy = true;
+        i.engine.push(reply.id);
+        if i.engine.len() > 8 {
+            i.engine.remove(0);
+        }
+        let order_id = i.order_id;
+        self.raw.accepted.push((k, ax, order_id));
+    }
+
+    fn raw_out(&self, k: usize) -> FbOut {
+        let i = &self.raw.instances[k];
+        FbOut {
+            instance: i.name.clone(),
+            order_id: i.order_id,
+            in_flight: i.in_flight,
+            fb_state: i.state,
+            ..i.out.clone()
+        }
+    }
+}
