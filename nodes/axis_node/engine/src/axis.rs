@@ -178,6 +178,8 @@ pub(crate) struct Axis {
     pub in_target_timer: f64,
     pub in_target: bool,
     pub lag_timer: f64,
+    /// State of the phasing / ext. setpoint / §4.7 extension FBs (engine/hooks.rs).
+    pub ext: crate::engine::hooks::AxisExt,
 }
 
 /// Velocities below this count as standstill \[u/s\].
@@ -232,6 +234,7 @@ impl Axis {
             in_target_timer: 0.0,
             in_target: false,
             lag_timer: 0.0,
+            ext: Default::default(),
             cfg,
         }
     }
@@ -248,7 +251,8 @@ impl Axis {
             coupled: self.coupling.is_some(),
             continuous: kind == Some(JobKind::Velocity)
                 || self.job.is_some_and(|j| j.continuous)
-                || self.torque.is_some(),
+                || self.torque.is_some()
+                || self.ext.ext_gen_moving(),
             has_job: self.job.is_some() || self.torque.is_some(),
         }
     }
@@ -885,6 +889,7 @@ impl Axis {
         // Position lag (§1.3).
         let pos_diff = self.set.pos - self.act_pos;
         if self.cfg.en_position_lag_monitoring
+            && !self.ext.accept_blocked_drive
             && self.error_id.is_none()
             && pos_diff.abs() > self.cfg.max_pos_lag_value
         {
@@ -1012,6 +1017,7 @@ impl Axis {
         );
         set(self.lock.is_some(), bits::MOTION_COMMANDS_LOCKED);
         set(!self.error_id.is_none(), bits::ERROR);
+        w |= self.ext_state_bits();
         let ax_state = match self.job {
             None if self.coupling.is_some() => axis_state::SYNCHRON,
             None => axis_state::INACTIVE,

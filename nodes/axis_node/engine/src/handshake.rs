@@ -58,6 +58,43 @@ pub enum FbKind {
     TouchProbe,
     /// MC_AbortTrigger.
     AbortTrigger,
+    // ---- engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs
+    /// MC_PhasingAbsolute.
+    PhasingAbsolute,
+    /// MC_PhasingRelative.
+    PhasingRelative,
+    /// MC_HaltPhasing.
+    HaltPhasing,
+    /// MC_GearInMultiMaster (Enable-type; InGear while synchronous).
+    GearInMultiMaster,
+    /// MC_ExtSetPointGenEnable.
+    ExtSetPointGenEnable,
+    /// MC_ExtSetPointGenDisable.
+    ExtSetPointGenDisable,
+    /// MC_ReadDriveOperationMode.
+    ReadDriveOperationMode,
+    /// MC_WriteDriveOperationMode.
+    WriteDriveOperationMode,
+    /// MC_BacklashCompensation (Enable-type).
+    BacklashCompensation,
+    /// MC_PositionCorrectionLimiter (Enable-type).
+    PositionCorrectionLimiter,
+    /// MC_TableBasedPositionCompensation (Enable-type).
+    TableBasedPositionCompensation,
+    /// MC_ReadDriveAddress.
+    ReadDriveAddress,
+    /// MC_SelectControlLoop.
+    SelectControlLoop,
+    /// MC_SetEncoderScalingFactor.
+    SetEncoderScalingFactor,
+    /// MC_WriteNcIoOutput.
+    WriteNcIoOutput,
+    /// MC_ReadParameterSet.
+    ReadParameterSet,
+    /// MC_ReadAxisComponents.
+    ReadAxisComponents,
+    /// MC_WriteParameterPersistent / MC_WriteBoolParameterPersistent.
+    WriteParameterPersistent,
 }
 
 /// All outputs of an Execute-type instance.
@@ -108,6 +145,8 @@ pub(crate) struct Handshake {
     pub probes: HashMap<CmdId, crate::probe::ProbeOutputs>,
     /// Extra outputs of MC_MoveSuperImposed instances.
     pub superimposed: HashMap<CmdId, crate::superposition::SuperImposedOutputs>,
+    /// Extra outputs of the phasing / position-correction FBs (engine/hooks.rs).
+    pub extra: HashMap<CmdId, crate::engine::hooks::ExtraOutputs>,
 }
 
 impl Handshake {
@@ -120,6 +159,7 @@ impl Handshake {
             in_step: false,
             superimposed: HashMap::new(),
             probes: HashMap::new(),
+            extra: HashMap::new(),
         }
     }
 
@@ -140,6 +180,7 @@ impl Handshake {
             let live = &self.instances;
             self.superimposed.retain(|id, _| live.contains_key(id));
             self.probes.retain(|id, _| live.contains_key(id));
+            self.extra.retain(|id, _| live.contains_key(id));
         }
         let id = self.untracked_id();
         self.instances.insert(
@@ -237,7 +278,7 @@ impl Handshake {
             in_end_velocity: flag && continuous,
             in_torque: flag && i.kind == FbKind::TorqueControl,
             // MC_GearIn: InGear is its Done (the command is complete once coupled).
-            in_gear: (flag && i.kind == FbKind::GearInDyn)
+            in_gear: (flag && matches!(i.kind, FbKind::GearInDyn | FbKind::GearInMultiMaster))
                 || (i.kind == FbKind::GearIn && standard.done),
         })
     }
