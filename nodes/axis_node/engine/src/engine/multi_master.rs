@@ -458,15 +458,30 @@ impl Axis {
                     true
                 }
             };
-            let planned = if track_pos {
-                Profile1::to_position(m.ls, m.p_star, v_t, &l)
+            if track_pos {
+                // Track p* in the frame moving with the masters: the error (to the previous
+                // cycle's p*) is brought to 0 jerk-limited, then the frame is moved on.
+                let err = State1 {
+                    pos: m.ls.pos - (m.p_star - dp),
+                    vel: m.ls.vel - v_star,
+                    acc: m.ls.acc - a_star,
+                };
+                match Profile1::to_position(err, 0.0, 0.0, &l) {
+                    Ok(p) => {
+                        let r = p.at(dt);
+                        m.ls = State1 {
+                            pos: m.p_star + r.pos,
+                            vel: v_star + r.vel,
+                            acc: a_star + r.acc,
+                        };
+                    }
+                    Err(_) => m.ls.pos += m.ls.vel * dt,
+                }
             } else {
-                Profile1::to_velocity(m.ls, v_t, &l)
-            };
-            if let Ok(p) = planned {
-                m.ls = p.at(dt);
-            } else {
-                m.ls.pos += m.ls.vel * dt;
+                match Profile1::to_velocity(m.ls, v_t, &l) {
+                    Ok(p) => m.ls = p.at(dt),
+                    Err(_) => m.ls.pos += m.ls.vel * dt,
+                }
             }
             let vel_sync = (m.ls.vel - v_star).abs() <= 1e-6;
             let pos_sync = !track_pos || (m.ls.pos - m.p_star).abs() <= 1e-6;
