@@ -57,14 +57,22 @@ fn fed_values_become_the_set_values() {
     for _ in 0..50 {
         p += 50.0 * DT;
         let reply = r.cmd(feed(p, 50.0, 1)).unwrap();
-        assert_eq!(reply.value, ReplyValue::Bool(false), "FUNCTION returns FALSE");
+        assert_eq!(
+            reply.value,
+            ReplyValue::Bool(false),
+            "FUNCTION returns FALSE"
+        );
         assert!(!reply.tracked);
         r.step();
         let s = r.st();
         assert_eq!(s.set_pos, p);
         assert_eq!(s.set_velo, 50.0);
         assert_eq!(s.act_pos, p);
-        assert_eq!(s.motion_state, MotionState::ContinuousMotion, "§2.2: fed velocity ≠ 0");
+        assert_eq!(
+            s.motion_state,
+            MotionState::ContinuousMotion,
+            "§2.2: fed velocity ≠ 0"
+        );
     }
     r.cmd(feed(10.0, 0.0, 0)).unwrap();
     r.step();
@@ -80,7 +88,10 @@ fn fed_values_become_the_set_values() {
     r.step();
     assert!(r.out(d).done);
     assert!(!enabled_output(&mut r, d));
-    assert!(!enabled_output(&mut r, id), "Enabled is the generator's current state");
+    assert!(
+        !enabled_output(&mut r, id),
+        "Enabled is the generator's current state"
+    );
     assert!(!r.st().bit(EXT_GEN_BIT));
     r.steps(5);
     assert_eq!(r.st().set_pos, 10.0);
@@ -95,7 +106,10 @@ fn disable_while_fed_velocity_stops_with_axis_dec() {
     r.step();
     r.id(disable());
     r.step();
-    assert!(r.st().set_velo > 0.0 && r.st().set_velo < 100.0, "ramping down");
+    assert!(
+        r.st().set_velo > 0.0 && r.st().set_velo < 100.0,
+        "ramping down"
+    );
     // 100 u/s at AxisDec 1000, AxisJerk 10000: about 0.2 s.
     let n = r.until(1000, |r| r.st().motion_state == MotionState::Standstill);
     assert!(n > 50, "{n}");
@@ -173,7 +187,11 @@ fn admission_and_bad_input() {
         options: ExtSetPointEnableOptions::default(),
     });
     let before = r.st();
-    assert_eq!(r.cmd(c.clone()).unwrap_err().error_id, err(0x4B01), "Disabled");
+    assert_eq!(
+        r.cmd(c.clone()).unwrap_err().error_id,
+        err(0x4B01),
+        "Disabled"
+    );
     assert_eq!(r.st(), before);
     // Disable is allowed in every state (Done).
     let d = r.id(disable());
@@ -182,7 +200,11 @@ fn admission_and_bad_input() {
     let mut r = Rig::powered();
     r.id(vel(100.0));
     r.step();
-    assert_eq!(r.cmd(c).unwrap_err().error_id, err(0x4B01), "ContinuousMotion");
+    assert_eq!(
+        r.cmd(c).unwrap_err().error_id,
+        err(0x4B01),
+        "ContinuousMotion"
+    );
     let mut r = Rig::powered();
     let before = r.st();
     for bad in [f64::NAN, f64::INFINITY] {

@@ -20,7 +20,11 @@ fn slave_is_the_superposition_of_the_masters() {
         [1.0, 0.5, 0.0, 0.0],
         false,
     )));
-    assert_eq!(t.st("s").motion_state, MotionState::SynchronizedMotion, "T9");
+    assert_eq!(
+        t.st("s").motion_state,
+        MotionState::SynchronizedMotion,
+        "T9"
+    );
     assert!(t.fb(id).in_gear && t.out(id).busy && t.out(id).active);
     assert_eq!(t.st("m1").couple_state, 1);
     assert_eq!(t.st("m2").couple_state, 1);
@@ -33,7 +37,11 @@ fn slave_is_the_superposition_of_the_masters() {
     let v = t.st("m1").set_velo + 0.5 * t.st("m2").set_velo;
     assert!((t.st("s").set_velo - v).abs() < 1e-9);
     t.until(10000, |t| t.out(a).done && t.out(b).done);
-    assert!((t.st("s").set_pos - 120.0).abs() < 1e-9, "{}", t.st("s").set_pos);
+    assert!(
+        (t.st("s").set_pos - 120.0).abs() < 1e-9,
+        "{}",
+        t.st("s").set_pos
+    );
 }
 
 #[test]
@@ -43,7 +51,11 @@ fn enable_false_freezes_the_ratios_and_keeps_the_coupling() {
     let id = t.id(AxisCommand::GearInMultiMaster(c.clone()));
     // Cyclic ratio change: slewed at Acceleration / master max velocity = 1000/2000 = 0.5/s.
     c.gear_ratio1 = 3.0;
-    assert_eq!(t.id(AxisCommand::GearInMultiMaster(c.clone())), id, "same instance");
+    assert_eq!(
+        t.id(AxisCommand::GearInMultiMaster(c.clone())),
+        id,
+        "same instance"
+    );
     t.step();
     assert!(!t.fb(id).in_gear, "ratio still slewing");
     t.steps(1000); // 2 s
@@ -52,7 +64,11 @@ fn enable_false_freezes_the_ratios_and_keeps_the_coupling() {
     t.id(AxisCommand::GearInMultiMaster(c));
     let o = t.out(id);
     assert!(!o.busy && !o.active, "{o:?}");
-    assert_eq!(t.st("s").motion_state, MotionState::SynchronizedMotion, "stays coupled");
+    assert_eq!(
+        t.st("s").motion_state,
+        MotionState::SynchronizedMotion,
+        "stays coupled"
+    );
     let m = t.mv("m1", 10.0, 100.0);
     t.until(5000, |t| t.out(m).done);
     assert!((t.st("s").set_pos - 30.0).abs() < 1e-9, "frozen ratio 3");
@@ -85,7 +101,12 @@ fn without_asd_moving_masters_and_moving_slaves_are_rejected() {
     t.vel("m2", 50.0);
     t.step();
     t.rejects(
-        AxisCommand::GearInMultiMaster(multi("s", ["m1", "m2", "", ""], [1.0, 1.0, 0.0, 0.0], false)),
+        AxisCommand::GearInMultiMaster(multi(
+            "s",
+            ["m1", "m2", "", ""],
+            [1.0, 1.0, 0.0, 0.0],
+            false,
+        )),
         0x4B05,
     );
     let mut u = three();
@@ -111,7 +132,11 @@ fn t9b_asd_velosync_couples_a_moving_slave_onto_moving_masters() {
         [1.0, 0.5, 0.0, 0.0],
         true,
     )));
-    assert_eq!(t.st("s").motion_state, MotionState::SynchronizedMotion, "T9b");
+    assert_eq!(
+        t.st("s").motion_state,
+        MotionState::SynchronizedMotion,
+        "T9b"
+    );
     assert!(!t.fb(id).in_gear);
     let n = t.until(5000, |t| t.fb(id).in_gear);
     assert!(n > 10, "synchronizing takes time with AxisAcc 1000");
@@ -137,7 +162,10 @@ fn possync2_catches_up_the_position() {
     let id = t.id(AxisCommand::GearInMultiMaster(c));
     t.until(20000, |t| t.fb(id).in_gear);
     let (m, s) = (t.st("m1"), t.st("s"));
-    assert!((s.set_pos - (s0 + (m.set_pos - m0))).abs() < 1e-6, "position-synchronous");
+    assert!(
+        (s.set_pos - (s0 + (m.set_pos - m0))).abs() < 1e-6,
+        "position-synchronous"
+    );
     assert!((s.set_velo - 100.0).abs() < 1e-6);
 }
 
@@ -166,18 +194,27 @@ fn phasing_needs_asd() {
         [1.0, 0.0, 0.0, 0.0],
         false,
     )));
-    t.rejects(AxisCommand::PhasingAbsolute(phasing_abs("m1", "s", 1.0, 10.0)), 0x4B05);
+    t.rejects(
+        AxisCommand::PhasingAbsolute(phasing_abs("m1", "s", 1.0, 10.0)),
+        0x4B05,
+    );
     let mut u = three();
     let mut c = multi("s", ["m1", "m2", "", ""], [1.0, 1.0, 0.0, 0.0], true);
     c.options.sync_mode = GearInMultiMasterSyncMode::PosSync2;
     u.id(AxisCommand::GearInMultiMaster(c));
     u.vel("m1", 100.0);
     u.steps(200);
-    let p = u.id(AxisCommand::PhasingAbsolute(phasing_abs("m2", "s", 5.0, 20.0)));
+    let p = u.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m2", "s", 5.0, 20.0,
+    )));
     u.until(5000, |u| u.out(p).done);
     u.steps(2000);
     let want = u.st("m1").set_pos + u.st("m2").set_pos + 5.0;
-    assert!((u.st("s").set_pos - want).abs() < 1e-6, "{} vs {want}", u.st("s").set_pos);
+    assert!(
+        (u.st("s").set_pos - want).abs() < 1e-6,
+        "{} vs {want}",
+        u.st("s").set_pos
+    );
 }
 
 #[test]
@@ -248,4 +285,3 @@ fn bad_input() {
         .unwrap();
     assert!(!r.tracked);
 }
-

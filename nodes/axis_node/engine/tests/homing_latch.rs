@@ -41,7 +41,7 @@ fn latch_run(mode: u32, start_level: bool, level: bool) -> (Rig, f64, f64, Vec<u
     r.step();
     let id = r.id(home(mode, 50.0));
     let mut phases = vec![r.st().homing_state];
-    let mut note = |r: &Rig, phases: &mut Vec<u32>| {
+    let note = |r: &Rig, phases: &mut Vec<u32>| {
         let p = r.st().homing_state;
         if *phases.last().unwrap() != p {
             phases.push(p);
@@ -72,7 +72,10 @@ fn rising_edge_modes_3_and_6() {
         let (r, at, end, phases) = latch_run(mode, false, true);
         assert_eq!(phases, vec![1, 2, 3, 4, 5, 6, 0], "mode {mode}");
         assert!(at > 20.0, "latched after the falling cam edge");
-        assert!((r.st().act_pos - (50.0 + (end - at))).abs() < 1e-9, "mode {mode}");
+        assert!(
+            (r.st().act_pos - (50.0 + (end - at))).abs() < 1e-9,
+            "mode {mode}"
+        );
         assert!(r.st().homed);
     }
 }
@@ -82,7 +85,10 @@ fn falling_edge_modes_4_and_7() {
     for mode in [4, 7] {
         let (r, at, end, phases) = latch_run(mode, true, false);
         assert_eq!(phases, vec![1, 2, 3, 4, 5, 6, 0], "mode {mode}");
-        assert!((r.st().act_pos - (50.0 + (end - at))).abs() < 1e-9, "mode {mode}");
+        assert!(
+            (r.st().act_pos - (50.0 + (end - at))).abs() < 1e-9,
+            "mode {mode}"
+        );
     }
 }
 

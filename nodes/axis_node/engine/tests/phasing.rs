@@ -24,9 +24,15 @@ fn lead(t: &Axes) -> f64 {
 fn phasing_absolute_establishes_the_shift_jerk_limited() {
     let mut t = running();
     assert!(lead(&t).abs() < 1e-9);
-    let id = t.id(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 10.0, 20.0)));
+    let id = t.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m", "s", 10.0, 20.0,
+    )));
     assert!(t.out(id).busy && t.out(id).active);
-    assert_eq!(t.st("s").motion_state, MotionState::SynchronizedMotion, "no state change");
+    assert_eq!(
+        t.st("s").motion_state,
+        MotionState::SynchronizedMotion,
+        "no state change"
+    );
     let mut max_dv: f64 = 0.0;
     let mut prev_v = t.st("s").set_velo;
     let mut saw_active = false;
@@ -63,9 +69,13 @@ fn phasing_absolute_establishes_the_shift_jerk_limited() {
 #[test]
 fn phasing_relative_adds_and_reports_the_covered_part() {
     let mut t = running();
-    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 10.0, 50.0)));
+    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m", "s", 10.0, 50.0,
+    )));
     t.until(5000, |t| t.out(a).done);
-    let r = t.id(AxisCommand::PhasingRelative(phasing_rel("m", "s", -4.0, 50.0)));
+    let r = t.id(AxisCommand::PhasingRelative(phasing_rel(
+        "m", "s", -4.0, 50.0,
+    )));
     t.until(5000, |t| t.out(r).done);
     assert!((lead(&t) - 6.0).abs() < 1e-9);
     match t.extra(r) {
@@ -80,7 +90,9 @@ fn phasing_relative_adds_and_reports_the_covered_part() {
 #[test]
 fn halt_phasing_stops_the_phasing_motion_and_keeps_the_shift() {
     let mut t = running();
-    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 100.0, 50.0)));
+    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m", "s", 100.0, 50.0,
+    )));
     t.steps(200);
     let h = t.id(AxisCommand::HaltPhasing(halt_phasing("m", "s")));
     assert!(t.out(a).command_aborted, "the phasing FB is aborted");
@@ -88,9 +100,15 @@ fn halt_phasing_stops_the_phasing_motion_and_keeps_the_shift() {
     let phi = t.ext("s").abs_phasing_pos;
     assert!(phi > 0.0 && phi < 100.0, "{phi}");
     t.steps(300);
-    assert!((t.ext("s").abs_phasing_pos - phi).abs() < 1e-12, "shift remains");
+    assert!(
+        (t.ext("s").abs_phasing_pos - phi).abs() < 1e-12,
+        "shift remains"
+    );
     assert!((lead(&t) - phi).abs() < 1e-9);
-    assert!((t.st("s").set_velo - 100.0).abs() < 1e-9, "phasing velocity 0");
+    assert!(
+        (t.st("s").set_velo - 100.0).abs() < 1e-9,
+        "phasing velocity 0"
+    );
 }
 
 #[test]
@@ -101,7 +119,10 @@ fn continuous_update_follows_new_inputs_until_execute_falls() {
     let id = t.id(AxisCommand::PhasingAbsolute(c));
     t.until(5000, |t| t.out(id).done);
     let o = t.out(id);
-    assert!(o.done && o.busy && o.active, "Done with Busy/Active (§4.13.1): {o:?}");
+    assert!(
+        o.done && o.busy && o.active,
+        "Done with Busy/Active (§4.13.1): {o:?}"
+    );
     t.id(AxisCommand::PhasingUpdate(PhasingUpdate {
         id,
         phase_shift: 8.0,
@@ -111,7 +132,8 @@ fn continuous_update_follows_new_inputs_until_execute_falls() {
         jerk: 0.0,
     }));
     t.until(5000, |t| (lead(t) - 8.0).abs() < 1e-9);
-    t.cmd(AxisCommand::SetExecute { id, execute: false }).unwrap();
+    t.cmd(AxisCommand::SetExecute { id, execute: false })
+        .unwrap();
     let o = t.out(id);
     assert!(!o.busy && !o.active && !o.done, "outputs reset: {o:?}");
     // Further updates are ignored.
@@ -130,7 +152,9 @@ fn continuous_update_follows_new_inputs_until_execute_falls() {
 #[test]
 fn decoupling_aborts_the_phasing_command() {
     let mut t = running();
-    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 100.0, 50.0)));
+    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m", "s", 100.0, 50.0,
+    )));
     t.steps(10);
     t.gear_out("s");
     t.step();
@@ -150,7 +174,9 @@ fn decoupling_aborts_the_phasing_command() {
 #[test]
 fn axis_error_ends_the_phasing_with_the_axis_error() {
     let mut t = running();
-    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 100.0, 50.0)));
+    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m", "s", 100.0, 50.0,
+    )));
     t.steps(10);
     t.cmd(AxisCommand::Sim(Sim::InjectAxisError {
         axis: "s".into(),
@@ -166,12 +192,18 @@ fn axis_error_ends_the_phasing_with_the_axis_error() {
 fn admission_and_bad_input() {
     let mut t = Axes::new(&["m", "s", "d"], AxisConfig::default());
     // Not coupled: Standstill → 0x4B05.
-    t.rejects(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 1.0, 10.0)), 0x4B05);
+    t.rejects(
+        AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 1.0, 10.0)),
+        0x4B05,
+    );
     t.rejects(AxisCommand::HaltPhasing(halt_phasing("m", "s")), 0x4B05);
     // Moving, not coupled → 0x4B05.
     t.vel("d", 10.0);
     t.step();
-    t.rejects(AxisCommand::PhasingRelative(phasing_rel("m", "d", 1.0, 10.0)), 0x4B05);
+    t.rejects(
+        AxisCommand::PhasingRelative(phasing_rel("m", "d", 1.0, 10.0)),
+        0x4B05,
+    );
     // Disabled → 0x4B01.
     let mut u = Axes::new(&["m", "s"], AxisConfig::default());
     u.cmd(AxisCommand::Power(Power {
@@ -184,7 +216,10 @@ fn admission_and_bad_input() {
     }))
     .unwrap();
     u.step();
-    u.rejects(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 1.0, 10.0)), 0x4B01);
+    u.rejects(
+        AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 1.0, 10.0)),
+        0x4B01,
+    );
 
     t.gear_in("m", "s", 1.0).unwrap();
     t.step();
@@ -312,5 +347,8 @@ fn not_on_gear_in_dyn_couplings() {
         buffer_mode: BufferMode::Aborting,
     }));
     t.step();
-    t.rejects(AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 1.0, 10.0)), 0x4B05);
+    t.rejects(
+        AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 1.0, 10.0)),
+        0x4B05,
+    );
 }

@@ -17,7 +17,7 @@
 //!   AxisEnablePosCorrection (1046) = TRUE, else 0x4B04 (TwinCAT doc for the backlash FB;
 //!   applied to all three, proposal). They are Enable-type: Enable↑ starts an instance (reply
 //!   id), calls with Enable TRUE update its inputs (same id), Enable↓ ends it (Done, outputs
-//!   reset) with its DisableMode (Hold keeps the last correction, Reset sets it to 0; the
+//!   reset) with the DisableMode of that call (Hold keeps the last correction, Reset sets it to 0; the
 //!   limiter has no DisableMode and holds). `Ramp` / `Acceleration` = 0 means no rate limit
 //!   (proposal); negative → 0x4B06. The travel direction used by the backlash and the table
 //!   is the last non-zero set velocity sign.
@@ -568,7 +568,6 @@ pub(crate) struct Backlash {
     pub backlash: f64,
     pub positive: bool,
     pub ramp: f64,
-    pub disable_mode: DisableMode,
 }
 
 /// MC_PositionCorrectionLimiter while enabled.
@@ -590,7 +589,6 @@ pub(crate) struct Table {
     pub table: Vec<PositionCompensationTableElement>,
     pub param: PositionCompensationTableParameter,
     pub ramp: f64,
-    pub disable_mode: DisableMode,
 }
 
 /// Extension state of one axis.
@@ -730,7 +728,9 @@ impl AxisEngine {
                 return Ok(self.untracked(ReplyValue::None));
             };
             let x = &mut self.axes[ax].ext.x;
-            if x.backlash.take().map(|b| b.disable_mode) == Some(DisableMode::Reset) {
+            // DisableMode as given with this call (inputs are read every call, §3.4).
+            x.backlash = None;
+            if c.disable_mode == DisableMode::Reset {
                 x.backlash_corr = 0.0;
             }
             return Ok(self.end_enable_instance(id));
@@ -757,7 +757,6 @@ impl AxisEngine {
             backlash,
             positive: c.compensation_in_positive_direction,
             ramp: c.ramp,
-            disable_mode: c.disable_mode,
         };
         if let Some(id) = running {
             self.axes[ax].ext.x.backlash = Some(state(id));
@@ -864,7 +863,8 @@ impl AxisEngine {
                 return Ok(self.untracked(ReplyValue::None));
             };
             let x = &mut self.axes[ax].ext.x;
-            if x.table.take().map(|t| t.disable_mode) == Some(DisableMode::Reset) {
+            x.table = None;
+            if c.disable_mode == DisableMode::Reset {
                 x.table_corr = 0.0;
             }
             return Ok(self.end_enable_instance(id));
@@ -928,7 +928,6 @@ impl AxisEngine {
             table: c.table.clone(),
             param: p,
             ramp: c.ramp,
-            disable_mode: c.disable_mode,
         };
         if let Some(id) = running {
             self.axes[ax].ext.x.table = Some(state(id));

@@ -100,7 +100,12 @@ impl Axes {
             v => panic!("unexpected {v:?}"),
         }
     }
-    pub fn gear_in(&mut self, master: &str, slave: &str, ratio: f64) -> Result<AxisReply, Rejection> {
+    pub fn gear_in(
+        &mut self,
+        master: &str,
+        slave: &str,
+        ratio: f64,
+    ) -> Result<AxisReply, Rejection> {
         self.cmd(AxisCommand::GearIn(GearIn {
             master: master.into(),
             slave: slave.into(),
