@@ -1044,17 +1044,30 @@ impl AxisEngine {
             ));
         }
         self.admit_state(ax, FbClass::Correction, fb)?;
-        let a = &mut self.axes[ax];
+        let a = &self.axes[ax];
         let (f, off) = (a.cfg.encoder_scaling_factor, a.cfg.encoder_offset);
         let inc = ((a.act_pos - off) / f).round();
+        // ABSOLUTE: the new actual position; RELATIVE: the new offset.
+        let new = match c.mode {
+            SetScalingFactorMode::Absolute => inc * c.scaling_factor + off,
+            SetScalingFactorMode::Relative => a.act_pos - inc * c.scaling_factor,
+        };
+        if !new.is_finite() || new.abs() > 1e15 {
+            return Err(not_correct(
+                &name,
+                fb,
+                "ScalingFactor",
+                c.scaling_factor,
+                &format!("gives a position or offset out of range ({new})"),
+            ));
+        }
+        let a = &mut self.axes[ax];
         match c.mode {
             SetScalingFactorMode::Absolute => {
-                let delta = inc * c.scaling_factor + off - a.act_pos;
+                let delta = new - a.act_pos;
                 shift_coordinates(a, delta);
             }
-            SetScalingFactorMode::Relative => {
-                a.cfg.encoder_offset = a.act_pos - inc * c.scaling_factor;
-            }
+            SetScalingFactorMode::Relative => a.cfg.encoder_offset = new,
         }
         a.cfg.encoder_scaling_factor = c.scaling_factor;
         Ok(self.instant(ax, FbKind::SetEncoderScalingFactor, ReplyValue::None))
