@@ -2435,6 +2435,9 @@ impl Engine for AxisEngine {
         if inst.state.is_final() {
             return Ok(());
         }
+        if self.cancel_axis3(&inst, id) {
+            return Ok(());
+        }
         let a = &mut self.axes[inst.axis];
         if a.pending.is_some_and(|p| p.owner == id) {
             a.pending = None;

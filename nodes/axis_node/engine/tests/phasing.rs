@@ -3,7 +3,7 @@
 //! §3.6 rule 10) and the bad-input screening.
 mod rig3;
 use axis_engine::*;
-use motion_core::ErrorId;
+use motion_core::{Engine, ErrorId};
 use rig3::*;
 
 /// Master "m" at 100 u/s, slave "s" coupled 1:1 at standstill before.
@@ -351,4 +351,20 @@ fn not_on_gear_in_dyn_couplings() {
         AxisCommand::PhasingAbsolute(phasing_abs("m", "s", 1.0, 10.0)),
         0x4B05,
     );
+}
+
+#[test]
+fn cancel_halts_the_phasing() {
+    let mut t = running();
+    let a = t.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m", "s", 100.0, 50.0,
+    )));
+    t.steps(200);
+    t.e.cancel(a).unwrap();
+    assert!(t.out(a).command_aborted);
+    t.steps(200);
+    let phi = t.ext("s").abs_phasing_pos;
+    assert!(phi > 0.0 && phi < 100.0, "{phi}");
+    assert!(!t.ext("s").phasing_active);
+    assert!((t.st("s").set_velo - 100.0).abs() < 1e-9);
 }

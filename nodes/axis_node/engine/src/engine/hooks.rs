@@ -256,6 +256,17 @@ impl AxisEngine {
         }
     }
 
+    /// A cancelled goal of an added FB: MC_PhasingAbsolute/Relative → MC_HaltPhasing with
+    /// the slave's default dynamics (the phasing FB ends with CommandAborted). True when
+    /// handled.
+    pub(super) fn cancel_axis3(&mut self, inst: &crate::handshake::Instance, id: CmdId) -> bool {
+        if !matches!(inst.kind, FbKind::PhasingAbsolute | FbKind::PhasingRelative) {
+            return false;
+        }
+        self.halt_phasing_of(inst.axis, id);
+        true
+    }
+
     /// Extra outputs of an instance of the added FBs.
     pub(super) fn extra_outputs(&self, id: CmdId) -> Option<ExtraOutputs> {
         let inst = self.fbs.get(id)?;

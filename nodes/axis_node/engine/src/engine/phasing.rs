@@ -6,7 +6,7 @@
 //! jerk-limited profile (the FB's Velocity, Acceleration, Deceleration and one Jerk for both
 //! ramps; 0 = the slave's AxisAcc/AxisDec/AxisJerk) that starts from the current phasing
 //! state, so a new phasing command or MC_HaltPhasing takes over without a velocity step.
-//! φ lives on the coupling ([`Phase`]): a new coupling starts at φ = 0, decoupling (GearOut,
+//! φ lives on the coupling (`Phase`): a new coupling starts at φ = 0, decoupling (GearOut,
 //! error, power off, reset, a motion command on an allowed slave) ends the phasing command
 //! (CommandAborted, or Error with the axis error id).
 //!
@@ -377,6 +377,43 @@ impl AxisEngine {
             },
         );
         Ok(Self::reply(id))
+    }
+
+    /// Halts the phasing run by instance `id` (a cancelled action goal): an internal
+    /// MC_HaltPhasing with the slave's AxisDec/AxisJerk; `id` ends with CommandAborted.
+    pub(super) fn halt_phasing_of(&mut self, slave: usize, id: CmdId) {
+        let a = &self.axes[slave];
+        let Some(cp) = a
+            .coupling
+            .filter(|c| c.ext.phase.job.is_some_and(|j| j.owner == id))
+        else {
+            return;
+        };
+        let s = cp.ext.phase.s;
+        let limits = Limits {
+            velocity: a.cfg.max_velocity.max(s.vel.abs()),
+            acceleration: a.cfg.deceleration.max(s.acc.abs()),
+            deceleration: a.cfg.deceleration,
+            jerk: a.cfg.jerk,
+        };
+        let Ok(profile) = Profile1::stopping(s, &limits) else {
+            return;
+        };
+        let halt = self
+            .fbs
+            .admit(slave, FbKind::HaltPhasing, CommandState::Active);
+        self.start_phase_job(
+            slave,
+            PhaseJob {
+                owner: halt,
+                ty: PhasingType::Stop,
+                profile,
+                t: 0.0,
+                start: s.pos,
+                continuous: false,
+                reached: false,
+            },
+        );
     }
 
     pub(super) fn phasing_update(&mut self, u: PhasingUpdate) -> Result<AxisReply, Rejection> {
