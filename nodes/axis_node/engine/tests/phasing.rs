@@ -131,7 +131,13 @@ fn continuous_update_follows_new_inputs_until_execute_falls() {
         deceleration: 0.0,
         jerk: 0.0,
     }));
+    t.step();
+    assert!(t.ext("s").phasing_active, "moving again after the update");
     t.until(5000, |t| (lead(t) - 8.0).abs() < 1e-9);
+    t.step();
+    assert!(!t.ext("s").phasing_active);
+    let o = t.out(id);
+    assert!(o.done && o.busy, "{o:?}");
     t.cmd(AxisCommand::SetExecute { id, execute: false })
         .unwrap();
     let o = t.out(id);
@@ -367,4 +373,29 @@ fn cancel_halts_the_phasing() {
     assert!(phi > 0.0 && phi < 100.0, "{phi}");
     assert!(!t.ext("s").phasing_active);
     assert!((t.st("s").set_velo - 100.0).abs() < 1e-9);
+}
+
+#[test]
+fn execute_falling_while_an_update_moves_ends_the_instance_at_the_target() {
+    let mut t = running();
+    let mut c = phasing_abs("m", "s", 5.0, 50.0);
+    c.continuous_update = true;
+    let id = t.id(AxisCommand::PhasingAbsolute(c));
+    t.until(5000, |t| t.out(id).done);
+    t.id(AxisCommand::PhasingUpdate(PhasingUpdate {
+        id,
+        phase_shift: 20.0,
+        velocity: 50.0,
+        acceleration: 0.0,
+        deceleration: 0.0,
+        jerk: 0.0,
+    }));
+    t.step();
+    t.cmd(AxisCommand::SetExecute { id, execute: false })
+        .unwrap();
+    t.until(5000, |t| !t.ext("s").phasing_active);
+    t.steps(2);
+    let o = t.out(id);
+    assert!(!o.busy && !o.active && !o.done, "{o:?}");
+    assert!((lead(&t) - 20.0).abs() < 1e-9);
 }

@@ -470,6 +470,7 @@ impl AxisEngine {
         j.profile = Profile1::to_position(c.ext.phase.s, target, 0.0, &limits)
             .map_err(|e| not_correct(&name, fb, "PhaseShift", u.phase_shift, &e.to_string()))?;
         j.t = 0.0;
+        j.reached = false;
         c.ext.phase.job = Some(j);
         a.coupling = Some(c);
         Ok(Self::reply(id))
@@ -502,14 +503,14 @@ impl AxisEngine {
         if j.t >= j.profile.duration() {
             c.ext.phase.s = State1::at_rest(j.profile.end().pos);
             if !j.reached {
+                // (Again after a ContinuousUpdate moved φ: Done is already shown then.)
                 j.reached = true;
                 let keep = j.continuous && self.fbs.get(j.owner).is_some_and(|i| i.execute);
                 self.fbs.done(j.owner);
-                if keep {
-                    if let Some(inst) = self.fbs.get_mut(j.owner) {
-                        inst.locked = true;
-                    }
-                } else {
+                if let Some(inst) = self.fbs.get_mut(j.owner) {
+                    inst.locked = keep;
+                }
+                if !keep {
                     j.continuous = false;
                 }
             }
