@@ -167,6 +167,14 @@ fn possync2_catches_up_the_position() {
         "position-synchronous"
     );
     assert!((s.set_velo - 100.0).abs() < 1e-6);
+    // The master speeds up within the slave's limits: the slave stays exact all along.
+    t.vel("m1", 300.0);
+    for _ in 0..500 {
+        t.step();
+        let (m, s) = (t.st("m1"), t.st("s"));
+        assert!((s.set_pos - (s0 + (m.set_pos - m0))).abs() < 1e-6);
+        assert!(t.fb(id).in_gear);
+    }
 }
 
 #[test]

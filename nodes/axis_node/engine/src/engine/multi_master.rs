@@ -23,7 +23,10 @@
 //!   The phasing offset φ (§4.13) is added after the limiter.
 //!
 //! InGear: coupled, every r_eff at its GearRatio, and with ASD the limiter synchronous
-//! (|v − v*| ≤ 1e-6, POSSYNC also |p − p*| ≤ 1e-6).
+//! (|v − v*| ≤ 1e-6, POSSYNC also |p − p*| ≤ 1e-6). Once synchronous the slave follows the
+//! ideal motion exactly as long as the change of v* per cycle stays within its acceleration
+//! limit (so the steady state plans nothing and allocates nothing); otherwise the limiter
+//! (a Ruckig plan from the current state, every cycle) takes over again.
 //! Not modelled: MC_MoveSuperImposed on a multi-master slave with ASD (the overlay shift is
 //! taken back by the limiter).
 
@@ -117,6 +120,11 @@ pub(crate) struct Multi {
     /// Ideal position (POSSYNC) and whether POSSYNC1 reached velocity sync.
     pub p_star: f64,
     pub pos_synced: bool,
+    /// ASD: synchronous in the last cycle (the slave then follows the ideal motion exactly
+    /// while that stays within its acceleration limit; the limiter plans only otherwise).
+    pub synced: bool,
+    /// v* of the last cycle.
+    pub v_prev: f64,
 }
 
 impl Coupling {
@@ -298,6 +306,8 @@ impl AxisEngine {
             ls: a.set,
             p_star: a.set.pos,
             pos_synced: false,
+            synced: false,
+            v_prev: 0.0,
         };
         a.coupling = Some(Coupling {
             master: first,
@@ -458,7 +468,18 @@ impl Axis {
                     true
                 }
             };
-            if track_pos {
+            let within = (v_star - m.v_prev).abs()
+                <= l.acceleration.max(l.deceleration) * dt * (1.0 + 1e-9)
+                && v_star.abs() <= l.velocity;
+            m.synced &= within && ratios_reached;
+            if m.synced {
+                // Synchronous: the ideal motion (no planning in steady state).
+                m.ls = State1 {
+                    pos: if track_pos { m.p_star } else { m.ls.pos + dp },
+                    vel: v_star,
+                    acc: a_star,
+                };
+            } else if track_pos {
                 // Track p* in the frame moving with the masters: the error (to the previous
                 // cycle's p*) is brought to 0 jerk-limited, then the frame is moved on.
                 let err = State1 {
@@ -489,6 +510,8 @@ impl Axis {
                 && vel_sync
                 && pos_sync
                 && (m.sync_mode == GearInMultiMasterSyncMode::VeloSync || track_pos);
+            m.synced = in_gear;
+            m.v_prev = v_star;
             let ph = c.ext.phase.s;
             self.set = State1 {
                 pos: m.ls.pos + ph.pos,
