@@ -399,3 +399,27 @@ fn execute_falling_while_an_update_moves_ends_the_instance_at_the_target() {
     assert!(!o.busy && !o.active && !o.done, "{o:?}");
     assert!((lead(&t) - 20.0).abs() < 1e-9);
 }
+
+#[test]
+fn a_phasing_left_by_a_vanished_coupling_ends_even_if_a_new_one_starts_in_the_same_cycle() {
+    let mut t = Axes::new(&["m", "s"], AxisConfig::default());
+    t.gear_in("m", "s", 1.0).unwrap();
+    t.step();
+    let old = t.id(AxisCommand::PhasingAbsolute(phasing_abs(
+        "m", "s", 100.0, 10.0,
+    )));
+    t.steps(300);
+    // Decouple (the slave keeps the phasing velocity), re-couple (T9b) and phase again,
+    // all before the next cycle.
+    t.gear_out("s");
+    assert_eq!(t.st("s").motion_state, MotionState::ContinuousMotion);
+    let mut mm = multi("s", ["m", "", "", ""], [1.0, 0.0, 0.0, 0.0], true);
+    mm.options.sync_mode = GearInMultiMasterSyncMode::PosSync2;
+    t.id(AxisCommand::GearInMultiMaster(mm));
+    let new = t.id(AxisCommand::PhasingRelative(phasing_rel(
+        "m", "s", 1.0, 10.0,
+    )));
+    assert!(t.out(old).command_aborted, "{:?}", t.out(old));
+    t.until(5000, |t| t.out(new).done);
+    assert!(t.out(old).command_aborted || !t.out(old).busy);
+}

@@ -267,6 +267,7 @@ impl AxisEngine {
             }
         }
         let m0 = inputs.map(|s| s.pos);
+        self.end_orphan_multi(slave);
         let id = self
             .fbs
             .admit(slave, FbKind::GearInMultiMaster, CommandState::Active);
@@ -330,6 +331,27 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
+    /// Ends an enabled instance whose coupling went away (GearOut with Enable FALSE is not
+    /// possible while enabled; error, power off, reset, a motion command on an allowed slave,
+    /// another coupling): CommandAborted, or Error with the axis error id.
+    fn end_orphan_multi(&mut self, i: usize) {
+        let a = &self.axes[i];
+        let Some(owner) = a.ext.multi_owner else {
+            return;
+        };
+        let live = a.coupling.and_then(|c| c.ext.multi).and_then(|m| m.owner);
+        if live == Some(owner) {
+            return;
+        }
+        let e = a.error_id;
+        self.axes[i].ext.multi_owner = None;
+        if e.is_none() {
+            self.fbs.aborted(owner);
+        } else {
+            self.fbs.error(owner, e);
+        }
+    }
+
     /// True when axis `a` (indirectly) follows axis `b`.
     fn follows(&self, a: usize, b: usize) -> bool {
         let mut stack = vec![a];
@@ -367,19 +389,7 @@ impl AxisEngine {
     /// Before the slave's step: this cycle's master values; ends an instance whose coupling
     /// went away (CommandAborted, or Error with the axis error id). No alloc.
     pub(super) fn multi_master_step(&mut self, i: usize) {
-        let a = &self.axes[i];
-        if let Some(owner) = a.ext.multi_owner {
-            let live = a.coupling.and_then(|c| c.ext.multi).and_then(|m| m.owner);
-            if live != Some(owner) {
-                let e = a.error_id;
-                self.axes[i].ext.multi_owner = None;
-                if e.is_none() {
-                    self.fbs.aborted(owner);
-                } else {
-                    self.fbs.error(owner, e);
-                }
-            }
-        }
+        self.end_orphan_multi(i);
         let Some(mut c) = self.axes[i].coupling else {
             return;
         };

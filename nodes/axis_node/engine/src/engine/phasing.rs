@@ -280,8 +280,31 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
+    /// Ends a phasing command whose coupling went away (GearOut, error, power off, reset, a
+    /// motion command): CommandAborted, or Error with the axis error id.
+    fn end_orphan_phasing(&mut self, i: usize) {
+        let a = &mut self.axes[i];
+        let Some(owner) = a.ext.phasing_owner else {
+            return;
+        };
+        let live = a.coupling.and_then(|c| c.ext.phase.job).map(|j| j.owner);
+        if live == Some(owner) {
+            return;
+        }
+        a.ext.phasing_owner = None;
+        if a.error_id.is_none() {
+            self.fbs.aborted(owner);
+        } else {
+            self.fbs.error(owner, a.error_id);
+        }
+        if let Some(inst) = self.fbs.get_mut(owner) {
+            inst.locked = false;
+        }
+    }
+
     /// Installs a phasing job; the running one ends with CommandAborted.
     fn start_phase_job(&mut self, slave: usize, job: PhaseJob) {
+        self.end_orphan_phasing(slave);
         let a = &mut self.axes[slave];
         a.cmd_no = a.cmd_no.wrapping_add(1);
         let Some(mut c) = a.coupling else { return };
@@ -479,23 +502,8 @@ impl AxisEngine {
     /// One cycle of the phasing of axis `i` (before the slave follows its master): advances
     /// φ, reports Done, ends commands whose coupling went away. No alloc.
     pub(super) fn phasing_step(&mut self, i: usize, dt: f64) {
+        self.end_orphan_phasing(i);
         let a = &mut self.axes[i];
-        if let Some(owner) = a.ext.phasing_owner {
-            let live = a.coupling.and_then(|c| c.ext.phase.job).map(|j| j.owner);
-            if live != Some(owner) {
-                // Decoupled (GearOut, error, power off, reset, motion command): the command
-                // cannot go on.
-                a.ext.phasing_owner = None;
-                if a.error_id.is_none() {
-                    self.fbs.aborted(owner);
-                } else {
-                    self.fbs.error(owner, a.error_id);
-                }
-                if let Some(inst) = self.fbs.get_mut(owner) {
-                    inst.locked = false;
-                }
-            }
-        }
         let Some(mut c) = a.coupling else { return };
         let Some(mut j) = c.ext.phase.job else { return };
         j.t += dt;
