@@ -1081,7 +1081,7 @@ pub use crate::engine::extensions::{
     SetEncoderScalingOptions, SetScalingFactorMode, TableBasedPositionCompensation, WorkDirection,
     WriteDriveOperationMode, WriteNcIoOutput,
 };
-pub use crate::engine::hooks::{ExtStatus, ExtraOutputs};
+pub use crate::engine::hooks::{added_fb_name, ExtStatus, ExtraOutputs};
 pub use crate::engine::multi_master::{
     GearInMultiMaster, GearInMultiMasterOptions, GearInMultiMasterSyncMode,
 };

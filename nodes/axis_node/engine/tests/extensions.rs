@@ -761,3 +761,16 @@ fn persistent_parameters() {
     }
     assert_eq!(r.e.persistent_parameters(AX).unwrap().len(), 2);
 }
+
+#[test]
+fn fb_names_of_the_added_kinds() {
+    assert_eq!(
+        added_fb_name(FbKind::PhasingAbsolute),
+        Some("MC_PhasingAbsolute")
+    );
+    assert_eq!(
+        added_fb_name(FbKind::TableBasedPositionCompensation),
+        Some("MC_TableBasedPositionCompensation")
+    );
+    assert_eq!(added_fb_name(FbKind::MoveAbsolute), None);
+}

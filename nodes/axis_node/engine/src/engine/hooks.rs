@@ -135,6 +135,32 @@ impl Axis {
     }
 }
 
+/// The manual's FB name of the instance kinds added with these modules (None for the
+/// others), for the shell's FB-name table.
+pub fn added_fb_name(kind: FbKind) -> Option<&'static str> {
+    Some(match kind {
+        FbKind::PhasingAbsolute => "MC_PhasingAbsolute",
+        FbKind::PhasingRelative => "MC_PhasingRelative",
+        FbKind::HaltPhasing => "MC_HaltPhasing",
+        FbKind::GearInMultiMaster => "MC_GearInMultiMaster",
+        FbKind::ExtSetPointGenEnable => "MC_ExtSetPointGenEnable",
+        FbKind::ExtSetPointGenDisable => "MC_ExtSetPointGenDisable",
+        FbKind::ReadDriveOperationMode => "MC_ReadDriveOperationMode",
+        FbKind::WriteDriveOperationMode => "MC_WriteDriveOperationMode",
+        FbKind::BacklashCompensation => "MC_BacklashCompensation",
+        FbKind::PositionCorrectionLimiter => "MC_PositionCorrectionLimiter",
+        FbKind::TableBasedPositionCompensation => "MC_TableBasedPositionCompensation",
+        FbKind::ReadDriveAddress => "MC_ReadDriveAddress",
+        FbKind::SelectControlLoop => "MC_SelectControlLoop",
+        FbKind::SetEncoderScalingFactor => "MC_SetEncoderScalingFactor",
+        FbKind::WriteNcIoOutput => "MC_WriteNcIoOutput",
+        FbKind::ReadParameterSet => "MC_ReadParameterSet",
+        FbKind::ReadAxisComponents => "MC_ReadAxisComponents",
+        FbKind::WriteParameterPersistent => "MC_WriteParameterPersistent",
+        _ => return None,
+    })
+}
+
 /// True for the commands of the added FBs (handled by [`AxisEngine::command_axis3`]).
 pub(super) fn is_axis3(cmd: &AxisCommand) -> bool {
     use AxisCommand as C;
