@@ -1245,8 +1245,11 @@ impl AxisEngine {
                 value: v,
             };
             let r = self.write_param_persistent(ax, c, is_bool)?;
-            // Applied at start: no instance outputs to show.
+            // Applied at start: the instance ends at once, silently (no event, no outputs).
             self.instant_done.retain(|id| *id != r.id);
+            self.fbs.done(r.id);
+            self.fbs.set_execute(r.id, false);
+            self.fbs.events.retain(|e| e.id != r.id);
         }
         Ok(())
     }
