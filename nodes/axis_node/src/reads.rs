@@ -139,30 +139,7 @@ fn read_actual_velocity(o: Result<AxisReply, Rejection>, _t: f64) -> ReadActualV
 
 /// The manual's FB name of an instance kind.
 pub(crate) fn fb_name(k: FbKind) -> &'static str {
-    match k {
-        FbKind::Reset => "MC_Reset",
-        FbKind::MoveAbsolute => "MC_MoveAbsolute",
-        FbKind::MoveRelative => "MC_MoveRelative",
-        FbKind::MoveAdditive => "MC_MoveAdditive",
-        FbKind::MoveModulo => "MC_MoveModulo",
-        FbKind::MoveVelocity => "MC_MoveVelocity",
-        FbKind::MoveContinuousAbsolute => "MC_MoveContinuousAbsolute",
-        FbKind::MoveContinuousRelative => "MC_MoveContinuousRelative",
-        FbKind::Halt => "MC_Halt",
-        FbKind::Stop => "MC_Stop",
-        FbKind::SetPosition => "MC_SetPosition",
-        FbKind::WriteParameter => "MC_WriteParameter",
-        FbKind::Home => "MC_Home",
-        FbKind::Jog => "MC_Jog",
-        FbKind::GearIn => "MC_GearIn",
-        FbKind::GearOut => "MC_GearOut",
-        FbKind::GearInDyn => "MC_GearInDyn",
-        FbKind::TorqueControl => "MC_TorqueControl",
-        FbKind::MoveSuperImposed => "MC_MoveSuperImposed",
-        FbKind::AbortSuperposition => "MC_AbortSuperposition",
-        FbKind::TouchProbe => "MC_TouchProbe",
-        FbKind::AbortTrigger => "MC_AbortTrigger",
-    }
+    k.fb_name()
 }
 
 fn get_outputs(o: Result<AxisReply, Rejection>, _t: f64) -> GetOutputsResponse {

@@ -180,6 +180,8 @@ pub(crate) struct Axis {
     pub lag_timer: f64,
     /// Driven by a Part 4 group motion (state SynchronizedMotion, plcopen_platform.md §5).
     pub group_motion: bool,
+    /// State of the phasing / ext. setpoint / §4.7 extension FBs (engine/hooks.rs).
+    pub ext: crate::engine::hooks::AxisExt,
 }
 
 /// Velocities below this count as standstill \[u/s\].
@@ -235,6 +237,7 @@ impl Axis {
             in_target: false,
             lag_timer: 0.0,
             group_motion: false,
+            ext: Default::default(),
             cfg,
         }
     }
@@ -251,7 +254,8 @@ impl Axis {
             coupled: self.coupling.is_some() || self.group_motion,
             continuous: kind == Some(JobKind::Velocity)
                 || self.job.is_some_and(|j| j.continuous)
-                || self.torque.is_some(),
+                || self.torque.is_some()
+                || self.ext.ext_gen_moving(),
             has_job: self.job.is_some() || self.torque.is_some(),
         }
     }
@@ -888,6 +892,7 @@ impl Axis {
         // Position lag (§1.3).
         let pos_diff = self.set.pos - self.act_pos;
         if self.cfg.en_position_lag_monitoring
+            && !self.ext.accept_blocked_drive
             && self.error_id.is_none()
             && pos_diff.abs() > self.cfg.max_pos_lag_value
         {
@@ -1015,6 +1020,7 @@ impl Axis {
         );
         set(self.lock.is_some(), bits::MOTION_COMMANDS_LOCKED);
         set(!self.error_id.is_none(), bits::ERROR);
+        w |= self.ext_state_bits();
         let ax_state = match self.job {
             None if self.coupling.is_some() => axis_state::SYNCHRON,
             None => axis_state::INACTIVE,

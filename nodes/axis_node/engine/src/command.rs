@@ -35,6 +35,7 @@ macro_rules! raw_enum {
         }
     };
 }
+pub(crate) use raw_enum;
 
 raw_enum! {
     /// `MC_BufferMode` (§3.6).
@@ -891,6 +892,58 @@ pub enum AxisCommand {
     Group(crate::group::GroupCommand),
     /// A platform service: safety, simulation, session (plcopen_platform.md §8–§12).
     Platform(crate::platform::PlatformCommand),
+    // ---- phasing, multi-master gearing, external setpoint generator, §4.7 extensions
+    // (modules engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs)
+    /// MC_PhasingAbsolute (§4.13.1).
+    PhasingAbsolute(PhasingAbsolute),
+    /// MC_PhasingRelative (§4.13.2).
+    PhasingRelative(PhasingRelative),
+    /// MC_HaltPhasing (§4.13.3).
+    HaltPhasing(HaltPhasing),
+    /// A later call of a running MC_PhasingAbsolute/Relative started with ContinuousUpdate.
+    PhasingUpdate(PhasingUpdate),
+    /// MC_GearInMultiMaster (§4.12.4, Enable-type).
+    GearInMultiMaster(GearInMultiMaster),
+    /// MC_ExtSetPointGenEnable (§4.6.1).
+    ExtSetPointGenEnable(ExtSetPointGenEnable),
+    /// MC_ExtSetPointGenDisable (§4.6.2).
+    ExtSetPointGenDisable(ExtSetPointGenDisable),
+    /// MC_ExtSetPointGenFeed (§4.6.3, FUNCTION).
+    ExtSetPointGenFeed(ExtSetPointGenFeed),
+    /// MC_ExtSetPointGenFeedWithTorque (§4.6.4, FUNCTION).
+    ExtSetPointGenFeedWithTorque(ExtSetPointGenFeedWithTorque),
+    /// MC_ReadDriveOperationMode (§4.7.1).
+    ReadDriveOperationMode(ReadDriveOperationMode),
+    /// MC_WriteDriveOperationMode (§4.7.1).
+    WriteDriveOperationMode(WriteDriveOperationMode),
+    /// MC_BacklashCompensation (§4.7.2, Enable-type).
+    BacklashCompensation(BacklashCompensation),
+    /// MC_PositionCorrectionLimiter (§4.7.5, Enable-type).
+    PositionCorrectionLimiter(PositionCorrectionLimiter),
+    /// MC_ReadDriveAddress (§4.7.6).
+    ReadDriveAddress(ReadDriveAddress),
+    /// MC_SelectControlLoop (§4.7.7).
+    SelectControlLoop(SelectControlLoop),
+    /// MC_SetAcceptBlockedDriveSignal (§4.7.8, FUNCTION).
+    SetAcceptBlockedDriveSignal(SetAcceptBlockedDriveSignal),
+    /// MC_SetEncoderScalingFactor (§4.7.9).
+    SetEncoderScalingFactor(SetEncoderScalingFactor),
+    /// MC_WriteNcIoOutput (§4.7.11).
+    WriteNcIoOutput(WriteNcIoOutput),
+    /// MC_TableBasedPositionCompensation (§4.7.12, Enable-type).
+    TableBasedPositionCompensation(TableBasedPositionCompensation),
+    /// MC_ConvertIncPosToPos (§4.7.13).
+    ConvertIncPosToPos(ConvertIncPosToPos),
+    /// MC_ConvertPosToIncPos (§4.7.13).
+    ConvertPosToIncPos(ConvertPosToIncPos),
+    /// MC_ReadParameterSet (§4.4.6).
+    ReadParameterSet(ReadParameterSet),
+    /// MC_ReadAxisComponents (§4.4.3).
+    ReadAxisComponents(ReadAxisComponents),
+    /// MC_WriteParameterPersistent (§4.4.9).
+    WriteParameterPersistent(WriteParameter),
+    /// MC_WriteBoolParameterPersistent (§4.4.9).
+    WriteBoolParameterPersistent(WriteBoolParameter),
 }
 
 /// The outputs of one FB instance ([`AxisCommand::ReadFbOutputs`]).
@@ -906,6 +959,8 @@ pub struct InstanceOutputs {
     pub superimposed: Option<crate::superposition::SuperImposedOutputs>,
     /// MC_TouchProbe: RecordedPosition and RecordedData (after the first accepted edge).
     pub probe: Option<crate::probe::ProbeOutputs>,
+    /// Extra outputs of the phasing, external-setpoint and position-correction FBs.
+    pub extra: Option<ExtraOutputs>,
 }
 
 /// A value returned at once by read-type FBs.
@@ -927,6 +982,8 @@ pub enum ReplyValue {
     Group(crate::group::GroupReply),
     /// Platform reads.
     Platform(crate::platform::PlatformReply),
+    /// Structured values of the §4.7 / §4.4.3 / §4.4.6 read FBs.
+    Extension(Box<ExtensionValue>),
 }
 
 /// The answer to an accepted command.
@@ -977,6 +1034,31 @@ impl AxisCommand {
             AbortSuperposition(c) => &c.axis,
             TouchProbe(c) => &c.axis,
             AbortTrigger(c) => &c.axis,
+            PhasingAbsolute(c) => &c.slave,
+            PhasingRelative(c) => &c.slave,
+            HaltPhasing(c) => &c.slave,
+            GearInMultiMaster(c) => &c.slave,
+            ExtSetPointGenEnable(c) => &c.axis,
+            ExtSetPointGenDisable(c) => &c.axis,
+            ExtSetPointGenFeed(c) => &c.axis,
+            ExtSetPointGenFeedWithTorque(c) => &c.axis,
+            ReadDriveOperationMode(c) => &c.axis,
+            WriteDriveOperationMode(c) => &c.axis,
+            BacklashCompensation(c) => &c.axis,
+            PositionCorrectionLimiter(c) => &c.axis,
+            ReadDriveAddress(c) => &c.axis,
+            SelectControlLoop(c) => &c.axis,
+            SetAcceptBlockedDriveSignal(c) => &c.axis,
+            SetEncoderScalingFactor(c) => &c.axis,
+            WriteNcIoOutput(c) => &c.axis,
+            TableBasedPositionCompensation(c) => &c.axis,
+            ConvertIncPosToPos(c) => &c.axis,
+            ConvertPosToIncPos(c) => &c.axis,
+            ReadParameterSet(c) => &c.axis,
+            ReadAxisComponents(c) => &c.axis,
+            WriteParameterPersistent(c) => &c.axis,
+            WriteBoolParameterPersistent(c) => &c.axis,
+            PhasingUpdate(_) => return None,
             SetExecute { .. }
             | HomeCalibrationCam { .. }
             | TorqueControlUpdate { .. }
@@ -993,3 +1075,24 @@ impl AxisCommand {
         })
     }
 }
+
+// ---- FBs of engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs
+pub use crate::engine::ext_setpoint::{
+    ExtSetPointEnableOptions, ExtSetPointGenDisable, ExtSetPointGenEnable, ExtSetPointGenFeed,
+    ExtSetPointGenFeedWithTorque, PositionType,
+};
+pub use crate::engine::extensions::{
+    AxisComponents, AxisParameterSet, BacklashCompensation, ConvertIncPosToPos, ConvertPosToIncPos,
+    DisableMode, DriveAddress, DriveOperationMode, ExtensionValue, NcIoDevice, NcIoOutput,
+    NcPositionConversionOptions, PositionCompensationTableElement,
+    PositionCompensationTableParameter, PositionCorrectionLimiter, PositionCorrectionMode,
+    ReadAxisComponents, ReadDriveAddress, ReadDriveOperationMode, ReadParameterSet,
+    SelectControlLoop, SelectControlLoopType, SetAcceptBlockedDriveSignal, SetEncoderScalingFactor,
+    SetEncoderScalingOptions, SetScalingFactorMode, TableBasedPositionCompensation, WorkDirection,
+    WriteDriveOperationMode, WriteNcIoOutput,
+};
+pub use crate::engine::hooks::{ExtStatus, ExtraOutputs};
+pub use crate::engine::multi_master::{
+    GearInMultiMaster, GearInMultiMasterOptions, GearInMultiMasterSyncMode,
+};
+pub use crate::engine::phasing::{HaltPhasing, PhasingAbsolute, PhasingRelative, PhasingUpdate};

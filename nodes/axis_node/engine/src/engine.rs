@@ -199,17 +199,20 @@ impl AxisEngine {
 
     /// Masters before slaves; recomputed when a coupling is made.
     fn recompute_order(&mut self) {
-        let depth = |mut i: usize| {
-            let mut d = 0;
-            while let Some(c) = self.axes[i].coupling {
-                i = c.master;
-                d += 1;
-                if d > self.axes.len() {
-                    break;
+        // Longest master chain above an axis (MC_GearInMultiMaster: over all its masters).
+        fn depth(axes: &[Axis], i: usize, guard: usize) -> usize {
+            match axes[i].coupling {
+                Some(c) if guard > 0 => {
+                    1 + c
+                        .masters()
+                        .map(|m| depth(axes, m, guard - 1))
+                        .max()
+                        .unwrap_or(0)
                 }
+                _ => 0,
             }
-            d
-        };
+        }
+        let depth = |i: usize| depth(&self.axes, i, self.axes.len());
         let mut order: Vec<(usize, usize)> = (0..self.axes.len()).map(|i| (depth(i), i)).collect();
         order.sort();
         self.order = order.into_iter().map(|(_, i)| i).collect();
@@ -235,7 +238,7 @@ impl AxisEngine {
     fn is_master(&self, i: usize) -> bool {
         self.axes
             .iter()
-            .any(|a| a.coupling.is_some_and(|c| c.master == i))
+            .any(|a| a.coupling.is_some_and(|c| c.masters().any(|m| m == i)))
     }
 
     /// Axis names in configuration order.
@@ -312,6 +315,7 @@ impl AxisEngine {
     // ------------------------------------------------------------------ admission
 
     fn admit_state(&self, ax: usize, fb: FbClass, fb_name: &str) -> Result<Admission, Rejection> {
+        self.ext_setpoint_admission(ax, fb, fb_name)?;
         let a = &self.axes[ax];
         let state = a.state();
         match admission(fb, state) {
@@ -1084,10 +1088,10 @@ impl AxisEngine {
         } else {
             c.options.reference_mode
         };
-        if !matches!(mode, 0 | 1 | 2 | 5) {
+        if !matches!(mode, 0..=7) {
             return Err(reject(
                 INVALID_MODE,
-                format!("axis '{name}': {fb}: reference mode {mode} (touch-probe latch) is not simulated"),
+                format!("axis '{name}': {fb}: reference mode {mode} is not an E_EncoderReferenceMode (0..7)"),
             ));
         }
         self.admit_state(ax, class, fb)?;
@@ -1462,7 +1466,10 @@ impl AxisEngine {
         let dyn_enabled = a
             .coupling
             .and_then(|c| c.dynamic)
-            .is_some_and(|d| d.owner.is_some());
+            .is_some_and(|d| d.owner.is_some())
+            || a.coupling
+                .and_then(|c| c.ext.multi)
+                .is_some_and(|m| m.owner.is_some());
         if !dyn_enabled {
             a.decouple_keep_velocity();
         }
@@ -1854,6 +1861,7 @@ impl AxisEngine {
             outputs: self.fb_outputs(id).unwrap_or_default(),
             superimposed: self.superimposed_outputs(id),
             probe: self.probe_outputs(id),
+            extra: self.extra_outputs(id),
         };
         // The instance's own id, so the reply names what was read.
         Ok(AxisReply {
@@ -1872,6 +1880,7 @@ impl AxisEngine {
                 format!("unknown command instance {}", id.0),
             )
         })?;
+        self.set_execute_axis3(&inst, id, execute);
         if inst.kind == FbKind::Stop && !execute {
             let a = &mut self.axes[inst.axis];
             if let Some(lock) = a.lock.as_mut().filter(|l| l.owner == id) {
@@ -2230,6 +2239,8 @@ impl AxisEngine {
                     velocity_limit_low,
                 )
             }
+            // A later call of a running phasing instance (by id, like the updates above).
+            AxisCommand::PhasingUpdate(_) => return self.command_axis3(cmd),
             _ => {}
         }
         let ax = self.axis_index(cmd.axis().unwrap_or_default())?;
@@ -2237,7 +2248,12 @@ impl AxisEngine {
         self.platform_pre(ax, &mut cmd)?;
         self.group_screen_axis_command(ax, &cmd)?;
         let (order, kind) = crate::platform::classify(&cmd);
-        let res = self.axis_command(ax, cmd);
+        // The FBs of engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs.
+        let res = if is_axis3(&cmd) {
+            self.command_axis3(cmd)
+        } else {
+            self.axis_command(ax, cmd)
+        };
         self.platform_post(ax, order, kind, res)
     }
 }
@@ -2375,6 +2391,33 @@ impl AxisEngine {
             | AxisCommand::Platform(_) => {
                 unreachable!("handled above")
             }
+            AxisCommand::PhasingAbsolute(_)
+            | AxisCommand::PhasingRelative(_)
+            | AxisCommand::HaltPhasing(_)
+            | AxisCommand::PhasingUpdate(_)
+            | AxisCommand::GearInMultiMaster(_)
+            | AxisCommand::ExtSetPointGenEnable(_)
+            | AxisCommand::ExtSetPointGenDisable(_)
+            | AxisCommand::ExtSetPointGenFeed(_)
+            | AxisCommand::ExtSetPointGenFeedWithTorque(_)
+            | AxisCommand::ReadDriveOperationMode(_)
+            | AxisCommand::WriteDriveOperationMode(_)
+            | AxisCommand::BacklashCompensation(_)
+            | AxisCommand::PositionCorrectionLimiter(_)
+            | AxisCommand::ReadDriveAddress(_)
+            | AxisCommand::SelectControlLoop(_)
+            | AxisCommand::SetAcceptBlockedDriveSignal(_)
+            | AxisCommand::SetEncoderScalingFactor(_)
+            | AxisCommand::WriteNcIoOutput(_)
+            | AxisCommand::TableBasedPositionCompensation(_)
+            | AxisCommand::ConvertIncPosToPos(_)
+            | AxisCommand::ConvertPosToIncPos(_)
+            | AxisCommand::ReadParameterSet(_)
+            | AxisCommand::ReadAxisComponents(_)
+            | AxisCommand::WriteParameterPersistent(_)
+            | AxisCommand::WriteBoolParameterPersistent(_) => {
+                unreachable!("handled by command_axis3")
+            }
         }
     }
 }
@@ -2416,7 +2459,9 @@ impl Engine for AxisEngine {
                     coord_offset: m.coord_offset,
                 }
             });
+            self.pre_step_axis3(i, tick.dt);
             self.axes[i].step(tick.dt, master, &mut self.fbs);
+            self.post_step_axis3(i, tick.dt);
         }
         self.platform_step_post();
         self.fbs.in_step = false;
@@ -2432,7 +2477,9 @@ impl Engine for AxisEngine {
                 let mut master = vec![false; self.axes.len()];
                 for a in &self.axes {
                     if let Some(c) = a.coupling {
-                        master[c.master] = true;
+                        for m in c.masters() {
+                            master[m] = true;
+                        }
                     }
                 }
                 let starting = self.platform.starting();
@@ -2480,6 +2527,9 @@ impl Engine for AxisEngine {
         if inst.state.is_final() {
             return Ok(());
         }
+        if self.cancel_axis3(&inst, id) {
+            return Ok(());
+        }
         let a = &mut self.axes[inst.axis];
         if a.pending.is_some_and(|p| p.owner == id) {
             a.pending = None;
@@ -2501,3 +2551,13 @@ impl Engine for AxisEngine {
         Ok(())
     }
 }
+
+// ---- FBs added after the first release (phasing, multi-master gearing, external setpoint
+// generator, §4.7 extensions): child modules, so they can use the engine's private helpers;
+// `hooks` is the one place where they plug into `command` and `step`.
+pub mod ext_setpoint;
+pub mod extensions;
+pub mod hooks;
+pub(crate) use hooks::is_axis3;
+pub mod multi_master;
+pub mod phasing;

@@ -18,6 +18,8 @@ pub(crate) struct Coupling {
     pub s0: f64,
     /// MC_GearInDyn: velocity-type coupling with a slewed ratio.
     pub dynamic: Option<DynCoupling>,
+    /// Phasing offset and MC_GearInMultiMaster data (engine/phasing.rs, multi_master.rs).
+    pub ext: crate::engine::hooks::CouplingExt,
 }
 
 /// State of an MC_GearInDyn coupling (§4.12.2): `ratio` of [`Coupling`] is r_eff.
@@ -67,6 +69,7 @@ impl Axis {
             m0: mv.pos - m.coord_offset,
             s0: self.set.pos,
             dynamic: None,
+            ext: Default::default(),
         });
         self.last_target = None;
     }
@@ -90,6 +93,7 @@ impl Axis {
                 m_prev: mv.pos - m.coord_offset,
                 ..d
             }),
+            ext: Default::default(),
         });
         self.last_target = None;
     }
@@ -102,6 +106,9 @@ impl Axis {
         dt: f64,
         fbs: &mut crate::handshake::Handshake,
     ) {
+        if let Some(mm) = c.ext.multi {
+            return self.follow_multi(c, mm, dt, fbs);
+        }
         let mv = self.master_value(m);
         if let Some(mut d) = c.dynamic {
             // Velocity-type coupling: ΔSlavePos = r_eff·ΔMasterPos, r_eff slewed (§4.12.2).
@@ -131,10 +138,12 @@ impl Axis {
             self.coupling = Some(c);
             return;
         }
+        // Phasing (§4.13): an additive slave offset φ with its derivatives.
+        let ph = c.ext.phase.s;
         self.set = State1 {
-            pos: c.s0 + c.ratio * (mv.pos - m.coord_offset - c.m0),
-            vel: c.ratio * mv.vel,
-            acc: c.ratio * mv.acc,
+            pos: c.s0 + c.ratio * (mv.pos - m.coord_offset - c.m0) + ph.pos,
+            vel: c.ratio * mv.vel + ph.vel,
+            acc: c.ratio * mv.acc + ph.acc,
         };
         self.target_pos = self.set.pos;
     }

@@ -58,6 +58,91 @@ pub enum FbKind {
     TouchProbe,
     /// MC_AbortTrigger.
     AbortTrigger,
+    // ---- engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs
+    /// MC_PhasingAbsolute.
+    PhasingAbsolute,
+    /// MC_PhasingRelative.
+    PhasingRelative,
+    /// MC_HaltPhasing.
+    HaltPhasing,
+    /// MC_GearInMultiMaster (Enable-type; InGear while synchronous).
+    GearInMultiMaster,
+    /// MC_ExtSetPointGenEnable.
+    ExtSetPointGenEnable,
+    /// MC_ExtSetPointGenDisable.
+    ExtSetPointGenDisable,
+    /// MC_ReadDriveOperationMode.
+    ReadDriveOperationMode,
+    /// MC_WriteDriveOperationMode.
+    WriteDriveOperationMode,
+    /// MC_BacklashCompensation (Enable-type).
+    BacklashCompensation,
+    /// MC_PositionCorrectionLimiter (Enable-type).
+    PositionCorrectionLimiter,
+    /// MC_TableBasedPositionCompensation (Enable-type).
+    TableBasedPositionCompensation,
+    /// MC_ReadDriveAddress.
+    ReadDriveAddress,
+    /// MC_SelectControlLoop.
+    SelectControlLoop,
+    /// MC_SetEncoderScalingFactor.
+    SetEncoderScalingFactor,
+    /// MC_WriteNcIoOutput.
+    WriteNcIoOutput,
+    /// MC_ReadParameterSet.
+    ReadParameterSet,
+    /// MC_ReadAxisComponents.
+    ReadAxisComponents,
+    /// MC_WriteParameterPersistent / MC_WriteBoolParameterPersistent.
+    WriteParameterPersistent,
+}
+
+impl FbKind {
+    /// The manual's FB name (`MC_` + the variant).
+    pub fn fb_name(self) -> &'static str {
+        match self {
+            FbKind::Reset => "MC_Reset",
+            FbKind::MoveAbsolute => "MC_MoveAbsolute",
+            FbKind::MoveRelative => "MC_MoveRelative",
+            FbKind::MoveAdditive => "MC_MoveAdditive",
+            FbKind::MoveModulo => "MC_MoveModulo",
+            FbKind::MoveVelocity => "MC_MoveVelocity",
+            FbKind::MoveContinuousAbsolute => "MC_MoveContinuousAbsolute",
+            FbKind::MoveContinuousRelative => "MC_MoveContinuousRelative",
+            FbKind::Halt => "MC_Halt",
+            FbKind::Stop => "MC_Stop",
+            FbKind::SetPosition => "MC_SetPosition",
+            FbKind::WriteParameter => "MC_WriteParameter",
+            FbKind::Home => "MC_Home",
+            FbKind::Jog => "MC_Jog",
+            FbKind::GearIn => "MC_GearIn",
+            FbKind::GearOut => "MC_GearOut",
+            FbKind::GearInDyn => "MC_GearInDyn",
+            FbKind::TorqueControl => "MC_TorqueControl",
+            FbKind::MoveSuperImposed => "MC_MoveSuperImposed",
+            FbKind::AbortSuperposition => "MC_AbortSuperposition",
+            FbKind::TouchProbe => "MC_TouchProbe",
+            FbKind::AbortTrigger => "MC_AbortTrigger",
+            FbKind::PhasingAbsolute => "MC_PhasingAbsolute",
+            FbKind::PhasingRelative => "MC_PhasingRelative",
+            FbKind::HaltPhasing => "MC_HaltPhasing",
+            FbKind::GearInMultiMaster => "MC_GearInMultiMaster",
+            FbKind::ExtSetPointGenEnable => "MC_ExtSetPointGenEnable",
+            FbKind::ExtSetPointGenDisable => "MC_ExtSetPointGenDisable",
+            FbKind::ReadDriveOperationMode => "MC_ReadDriveOperationMode",
+            FbKind::WriteDriveOperationMode => "MC_WriteDriveOperationMode",
+            FbKind::BacklashCompensation => "MC_BacklashCompensation",
+            FbKind::PositionCorrectionLimiter => "MC_PositionCorrectionLimiter",
+            FbKind::TableBasedPositionCompensation => "MC_TableBasedPositionCompensation",
+            FbKind::ReadDriveAddress => "MC_ReadDriveAddress",
+            FbKind::SelectControlLoop => "MC_SelectControlLoop",
+            FbKind::SetEncoderScalingFactor => "MC_SetEncoderScalingFactor",
+            FbKind::WriteNcIoOutput => "MC_WriteNcIoOutput",
+            FbKind::ReadParameterSet => "MC_ReadParameterSet",
+            FbKind::ReadAxisComponents => "MC_ReadAxisComponents",
+            FbKind::WriteParameterPersistent => "MC_WriteParameterPersistent",
+        }
+    }
 }
 
 /// All outputs of an Execute-type instance.
@@ -108,6 +193,8 @@ pub(crate) struct Handshake {
     pub probes: HashMap<CmdId, crate::probe::ProbeOutputs>,
     /// Extra outputs of MC_MoveSuperImposed instances.
     pub superimposed: HashMap<CmdId, crate::superposition::SuperImposedOutputs>,
+    /// Extra outputs of the phasing / position-correction FBs (engine/hooks.rs).
+    pub extra: HashMap<CmdId, crate::engine::hooks::ExtraOutputs>,
 }
 
 impl Handshake {
@@ -120,6 +207,7 @@ impl Handshake {
             in_step: false,
             superimposed: HashMap::new(),
             probes: HashMap::new(),
+            extra: HashMap::new(),
         }
     }
 
@@ -140,6 +228,7 @@ impl Handshake {
             let live = &self.instances;
             self.superimposed.retain(|id, _| live.contains_key(id));
             self.probes.retain(|id, _| live.contains_key(id));
+            self.extra.retain(|id, _| live.contains_key(id));
         }
         let id = self.untracked_id();
         self.instances.insert(
@@ -239,7 +328,7 @@ impl Handshake {
             in_end_velocity: flag && continuous,
             in_torque: flag && i.kind == FbKind::TorqueControl,
             // MC_GearIn: InGear is its Done (the command is complete once coupled).
-            in_gear: (flag && i.kind == FbKind::GearInDyn)
+            in_gear: (flag && matches!(i.kind, FbKind::GearInDyn | FbKind::GearInMultiMaster))
                 || (i.kind == FbKind::GearIn && standard.done),
         })
     }

@@ -3,8 +3,13 @@
 //!
 //! Reference modes: PLCCAM (1) = falling cam edge (phase 5 skipped); HARDWARESYNC (2) and
 //! SOFTWARESYNC (5) = first sync pulse after the falling cam edge (pulses at raw positions
-//! that are multiples of `sim.sync_pulse_period`). The latch modes (3, 4, 6, 7) need the
-//! touch-probe inputs, which this engine does not simulate yet (rejected with 0x4B04).
+//! that are multiples of `sim.sync_pulse_period`). Latch modes (§4.10 simulator proposal):
+//! HARDWARELATCHPOS (3) / SOFTDRIVELATCHPOS (6) = first rising edge of the virtual probe input
+//! 1 after the falling cam edge (the level set with `sim.probe_input`, or a crossing of one of
+//! `sim.probe_marks`, interpolated to the mark), HARDWARELATCHNEG (4) / SOFTDRIVELATCHNEG (7) =
+//! first falling edge of that input. A level changed between two cycles is latched at the
+//! position of the cycle boundary (the hardware latch of a real drive is exact; the virtual
+//! input is only as fine as the command timing).
 
 use crate::axis::{Axis, Job, JobKind};
 use crate::error_ids;
@@ -23,7 +28,7 @@ pub(crate) struct Homing {
     pub search_velocity: f64,
     pub sync_dir: f64,
     pub sync_velocity: f64,
-    /// E_EncoderReferenceMode actually used (1, 2 or 5).
+    /// E_EncoderReferenceMode actually used (1..7).
     pub mode: u32,
     /// bCalibrationCam level as last called.
     pub cam_input: bool,
@@ -136,6 +141,9 @@ impl Axis {
                     h.ref_raw = e;
                     self.homing_stop();
                     h.phase = 6;
+                } else if matches!(h.mode, 3 | 4 | 6 | 7) {
+                    // Arm the latch on probe input 1 (phase 5).
+                    h.phase = 5;
                 } else {
                     let p = self.cfg.sync_pulse_period;
                     h.pulse = if h.sync_dir > 0.0 {
@@ -144,6 +152,28 @@ impl Axis {
                         (e / p).ceil() * p - p
                     };
                     h.phase = 5;
+                }
+            }
+            5 if matches!(h.mode, 3 | 4 | 6 | 7) => {
+                let level = self.probe_level[0];
+                let prev = self.probe_prev[0];
+                let rising = matches!(h.mode, 3 | 6);
+                let mark = if rising {
+                    self.cfg.probe_marks.iter().copied().find(|&m| {
+                        (m - h.prev_raw) * (raw - m) >= 0.0 && (raw - h.prev_raw).abs() > 0.0
+                    })
+                } else {
+                    None
+                };
+                let edge = if rising {
+                    level && !prev
+                } else {
+                    !level && prev
+                };
+                if let Some(at) = mark.or(edge.then_some(h.prev_raw)) {
+                    h.ref_raw = at;
+                    self.homing_stop();
+                    h.phase = 6;
                 }
             }
             5 if (raw - h.pulse) * h.sync_dir >= 0.0 => {

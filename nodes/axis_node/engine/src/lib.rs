@@ -54,6 +54,20 @@
 //! `gearing` (§4.12), `torque` (§4.14), `engine` (command screening and FB semantics),
 //! [`config`] (§1.2 defaults), [`group`] (Part 4 groups), [`platform`] (profile hooks,
 //! safety, start-up).
+//!
+//! Added later, as child modules of `engine` plugged in at one place (`engine/hooks.rs`):
+//! [`phasing`] (§4.13), [`multi_master`] (MC_GearInMultiMaster, §4.12.4), [`ext_setpoint`]
+//! (§4.6) and [`extensions`] (§4.7, MC_ReadParameterSet, MC_ReadAxisComponents,
+//! MC_Write(Bool)ParameterPersistent). For the shell: later inputs of a running
+//! MC_PhasingAbsolute/Relative with ContinuousUpdate are `AxisCommand::PhasingUpdate`;
+//! MC_GearInMultiMaster, MC_BacklashCompensation, MC_PositionCorrectionLimiter and
+//! MC_TableBasedPositionCompensation are Enable-type (Enable↑ = new instance, calls with
+//! Enable TRUE = same id with new inputs, Enable↓ = end); their extra outputs
+//! (AbsolutePhaseShift, Enabled, CurrentBacklash, Limiting, ...) are
+//! [`InstanceOutputs::extra`]; NCTOPLC values of these functions (AbsPhasingPos,
+//! ActPosWithoutPosCorrection, drive mode, encoder counter, ...) are
+//! [`AxisEngine::ext_status`]; the persistent-parameter list for the shell to store is
+//! [`AxisEngine::persistent_parameters`] / [`AxisEngine::apply_persistent_parameters`].
 
 mod axis;
 pub mod buffer;
@@ -77,6 +91,7 @@ mod torque;
 
 pub use command::*;
 pub use config::{AxisConfig, FollowingModel};
+pub use engine::{ext_setpoint, extensions, multi_master, phasing};
 pub use engine::{AxisEngine, PowerOutputs};
 pub use group::{GroupCommand, GroupConfig, GroupReply, GroupState, GroupStatus};
 pub use handshake::{FbKind, FbOutputs};

@@ -1,6 +1,6 @@
 //! §2.2 transition table, row by row. Rows tested elsewhere: T8, T9, T10, T10b in
-//! `w10_gearing.rs`, T12/T13 in `w16_homing.rs`, T16 in `move_continuous.rs`. T9b
-//! (MC_GearInMultiMaster) is not implemented.
+//! `w10_gearing.rs`, T12/T13 in `w16_homing.rs`, T16 in `move_continuous.rs`, T9b
+//! (MC_GearInMultiMaster with AdvancedSlaveDynamics) in `gear_in_multi_master.rs`.
 mod common;
 use axis_engine::*;
 use common::*;

@@ -278,8 +278,9 @@ fn homing_bad_inputs() {
             .error_id,
         err(0x4B06)
     );
+    // Not an E_EncoderReferenceMode (0..7; the latch modes 3/4/6/7 are simulated).
     let o = HomingOptions {
-        reference_mode: 3,
+        reference_mode: 8,
         ..Default::default()
     };
     assert_eq!(

@@ -50,6 +50,8 @@ fn not_in_catalogue(cmd: &AxisCommand) -> Option<&'static str> {
         MoveModulo(_) => "MC_MoveModulo",
         GearInDyn(_) => "MC_GearInDyn",
         AbortSuperposition(_) => "MC_AbortSuperposition",
+        // Phasing, multi-master gearing, external set points, §4.7 extensions: Tc2_MC2 only.
+        c if crate::engine::is_axis3(c) => "this Tc2_MC2 extension FB",
         _ => return None,
     })
 }

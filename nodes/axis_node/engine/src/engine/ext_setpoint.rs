@@ -1,0 +1,270 @@
+//! External setpoint generator (single_axis.md §4.6): MC_ExtSetPointGenEnable,
+//! MC_ExtSetPointGenDisable, MC_ExtSetPointGenFeed, MC_ExtSetPointGenFeedWithTorque.
+//!
+//! Model (spec proposals): while enabled, SetPos/SetVelo/SetAcc are the last fed values
+//! (`PlcToNc.ExtSetPos/Velo/Acc`) every cycle; before the first feed the axis holds its set
+//! position. The state is ContinuousMotion while the fed velocity is ≠ 0, else Standstill
+//! (§2.2 note); StateDWord bit 14 `ExtSetPointGenEnabled` is set. `Position` of the enable is
+//! only the target for the position monitoring (InTargetPosition when reached; RELATIVE =
+//! relative to the set position at the edge). Disable keeps the last fed position; a fed
+//! velocity ≠ 0 is stopped by the internal generator with AxisDec/AxisJerk.
+//!
+//! Admission: Enable only in Standstill (else 0x4B01, §2.4); Disable in every state.
+//! Motion commands on an enabled axis are rejected with 0x4B01 unless
+//! AxisAllowMotionCmdToExtSetAxis (1066) = TRUE; then the generator is disabled and the
+//! command takes over. MC_Stop, MC_Reset and MC_Power are always possible (MC_Stop disables
+//! the generator). An axis error or power off disables the generator.
+//! The feed functions (FUNCTION : BOOL, return value always FALSE) only copy their inputs,
+//! whether the generator is enabled or not; bad input (non-finite, Direction ∉ {−1, 0, 1} →
+//! 0x7F03) is refused. TorqueOffset is forwarded (`PlcToNc.ExtTorque`, [`super::hooks::ExtStatus`])
+//! only when the generator was enabled with `Options.UseTorqueOffset`.
+
+use super::*;
+use serde::{Deserialize, Serialize};
+
+crate::command::raw_enum! {
+    /// `E_PositionType` (§5.3).
+    PositionType: "PositionType" {
+        /// POSITIONTYPE_ABSOLUTE (1).
+        #[default]
+        Absolute = 1,
+        /// POSITIONTYPE_RELATIVE (2).
+        Relative = 2,
+    }
+}
+
+/// `ST_ExtSetPointEnableOptions` (§5.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ExtSetPointEnableOptions {
+    /// UseTorqueOffset: forward TorqueOffset of MC_ExtSetPointGenFeedWithTorque.
+    pub use_torque_offset: bool,
+}
+
+/// MC_ExtSetPointGenEnable (§4.6.1). Reply: the instance (Done next cycle); its extra output
+/// [`super::hooks::ExtraOutputs::ExtSetPointGen`] `enabled` is the live generator state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExtSetPointGenEnable {
+    /// Axis name.
+    pub axis: String,
+    /// Position for the target monitoring only \[u\].
+    pub position: f64,
+    /// PositionType.
+    pub position_type: PositionType,
+    /// Options.
+    pub options: ExtSetPointEnableOptions,
+}
+
+/// MC_ExtSetPointGenDisable (§4.6.2).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExtSetPointGenDisable {
+    /// Axis name.
+    pub axis: String,
+}
+
+/// MC_ExtSetPointGenFeed (§4.6.3, FUNCTION : BOOL): reply `ReplyValue::Bool(false)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExtSetPointGenFeed {
+    /// Axis name.
+    pub axis: String,
+    /// Position \[u\].
+    pub position: f64,
+    /// Velocity \[u/s\].
+    pub velocity: f64,
+    /// Acceleration \[u/s²\].
+    pub acceleration: f64,
+    /// Direction: −1 negative, 0 standstill, +1 positive.
+    pub direction: i32,
+}
+
+/// MC_ExtSetPointGenFeedWithTorque (§4.6.4, FUNCTION : BOOL): reply `ReplyValue::Bool(false)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExtSetPointGenFeedWithTorque {
+    /// Axis name.
+    pub axis: String,
+    /// Position \[u\].
+    pub position: f64,
+    /// Velocity \[u/s\].
+    pub velocity: f64,
+    /// Acceleration \[u/s²\].
+    pub acceleration: f64,
+    /// Direction: −1, 0, +1.
+    pub direction: i32,
+    /// TorqueOffset (→ `PlcToNc.ExtTorque`) \[%\].
+    pub torque_offset: f64,
+}
+
+/// State of the external setpoint generator of one axis.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct ExtGen {
+    pub enabled: bool,
+    pub use_torque_offset: bool,
+    /// Last fed values (`PlcToNc.ExtSetPos/Velo/Acc/Direction`).
+    pub fed: State1,
+    pub direction: i32,
+    pub fed_since_enable: bool,
+    /// `PlcToNc.ExtTorque` as forwarded \[%\].
+    pub torque_offset: f64,
+}
+
+impl AxisEngine {
+    pub(super) fn ext_set_point_gen_enable(
+        &mut self,
+        ax: usize,
+        c: ExtSetPointGenEnable,
+    ) -> Result<AxisReply, Rejection> {
+        let fb = "MC_ExtSetPointGenEnable";
+        finite(&c.axis, fb, "Position", c.position)?;
+        self.admit_state(ax, FbClass::ExtSetPointGenEnable, fb)?;
+        let id = self
+            .fbs
+            .admit(ax, FbKind::ExtSetPointGenEnable, CommandState::Busy);
+        let a = &mut self.axes[ax];
+        a.cmd_no = a.cmd_no.wrapping_add(1);
+        let target = match c.position_type {
+            PositionType::Absolute => c.position,
+            PositionType::Relative => a.set.pos + c.position,
+        };
+        a.ext.ext_gen = ExtGen {
+            enabled: true,
+            use_torque_offset: c.options.use_torque_offset,
+            fed: State1::at_rest(a.set.pos),
+            direction: 0,
+            fed_since_enable: false,
+            torque_offset: 0.0,
+        };
+        a.target_pos = target;
+        a.in_target = false;
+        a.in_target_timer = 0.0;
+        a.last_target = None;
+        self.instant_done.push(id);
+        Ok(Self::reply(id))
+    }
+
+    pub(super) fn ext_set_point_gen_disable(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+        let fb = "MC_ExtSetPointGenDisable";
+        self.admit_state(ax, FbClass::ExtSetPointGenDisable, fb)?;
+        let id = self
+            .fbs
+            .admit(ax, FbKind::ExtSetPointGenDisable, CommandState::Busy);
+        let a = &mut self.axes[ax];
+        a.cmd_no = a.cmd_no.wrapping_add(1);
+        a.disable_ext_gen();
+        self.instant_done.push(id);
+        Ok(Self::reply(id))
+    }
+
+    pub(super) fn ext_set_point_gen_feed(
+        &mut self,
+        ax: usize,
+        fb: &str,
+        s: State1,
+        direction: i32,
+        torque_offset: f64,
+    ) -> Result<AxisReply, Rejection> {
+        let a = &mut self.axes[ax];
+        for (f, v) in [
+            ("Position", s.pos),
+            ("Velocity", s.vel),
+            ("Acceleration", s.acc),
+            ("TorqueOffset", torque_offset),
+        ] {
+            finite(&a.name, fb, f, v)?;
+        }
+        if !(-1..=1).contains(&direction) {
+            return Err(reject(
+                ErrorId::ENUM_OUT_OF_RANGE,
+                format!(
+                    "axis '{}': {fb}: Direction = {direction} must be -1, 0 or 1",
+                    a.name
+                ),
+            ));
+        }
+        let g = &mut a.ext.ext_gen;
+        g.fed = s;
+        g.direction = direction;
+        g.fed_since_enable = true;
+        if g.use_torque_offset && g.enabled {
+            g.torque_offset = torque_offset;
+        }
+        Ok(self.untracked(ReplyValue::Bool(false)))
+    }
+
+    /// Motion commands on an axis fed by the external generator (§2.4 note): 0x4B01 unless
+    /// AxisAllowMotionCmdToExtSetAxis (1066).
+    pub(super) fn ext_setpoint_admission(
+        &self,
+        ax: usize,
+        fb: FbClass,
+        fb_name: &str,
+    ) -> Result<(), Rejection> {
+        let a = &self.axes[ax];
+        let motion = matches!(
+            fb,
+            FbClass::Halt
+                | FbClass::MoveDiscrete
+                | FbClass::MoveContinuous
+                | FbClass::TorqueControl
+                | FbClass::Jog
+                | FbClass::HomeDefault
+                | FbClass::HomeNoMotion
+                | FbClass::GearIn
+                | FbClass::GearInDyn
+                | FbClass::GearInMultiMaster { .. }
+                | FbClass::ExtSetPointGenEnable
+        );
+        if motion && a.ext.ext_gen.enabled && !a.cfg.allow_motion_cmd_to_ext_set_axis {
+            return Err(reject(
+                AXIS_CANNOT_BE_STARTED,
+                format!(
+                    "axis '{}': {fb_name} not allowed while the external setpoint generator \
+                     is enabled (AxisAllowMotionCmdToExtSetAxis = FALSE)",
+                    a.name
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Before the axis' step: the fed values become the set values. No alloc.
+    pub(super) fn ext_setpoint_step(&mut self, i: usize) {
+        let a = &mut self.axes[i];
+        if !a.ext.ext_gen.enabled {
+            return;
+        }
+        if !a.error_id.is_none() || !a.controller_on {
+            a.ext.ext_gen.enabled = false;
+            return;
+        }
+        if a.job.is_some() || a.torque.is_some() || a.coupling.is_some() || a.homing.is_some() {
+            // A command took over (MC_Stop, or a motion command allowed by 1066).
+            a.ext.ext_gen.enabled = false;
+            return;
+        }
+        if a.ext.ext_gen.fed_since_enable {
+            a.set = a.ext.ext_gen.fed;
+        }
+    }
+}
+
+impl Axis {
+    /// Disables the generator; a fed velocity ≠ 0 is stopped with AxisDec/AxisJerk.
+    pub(crate) fn disable_ext_gen(&mut self) {
+        if !std::mem::take(&mut self.ext.ext_gen.enabled) {
+            return;
+        }
+        self.ext.ext_gen.torque_offset = 0.0;
+        if self.set.vel.abs() > 1e-9 || self.set.acc.abs() > 1e-9 {
+            let l = Limits {
+                velocity: self.cfg.max_velocity,
+                acceleration: self.cfg.acceleration,
+                deceleration: self.cfg.deceleration,
+                jerk: self.cfg.jerk,
+            };
+            let profile = self.plan_stop(&l);
+            let stop = profile.end().pos;
+            self.start_job(Job::internal(JobKind::Halt, profile, stop, l));
+        } else {
+            self.set = State1::at_rest(self.set.pos);
+        }
+    }
+}

@@ -1,0 +1,544 @@
+//! MC_GearInMultiMaster (single_axis.md §4.12.4): one slave coupled to up to four masters,
+//! the slave motion is the superposition of the masters' motions with one ratio each.
+//!
+//! Calls (Enable-type, like MC_GearInDyn): Enable↑ couples and returns the instance id; calls
+//! with Enable TRUE update GearRatio1..4 / dynamics of the running instance (same id, master
+//! names are latched at Enable↑); Enable↓ ends the command (Done, outputs reset): the ratios
+//! are frozen and the slave **stays coupled** (§9 item 7). MC_GearOut while Enable stays TRUE
+//! only decouples briefly (the coupling is kept).
+//!
+//! Model (spec proposals of §4.12.4), masters read with their set values (or actual values,
+//! AxisCoupleSlaveToActualValues 1064) in raw coordinates, masters stepped first:
+//! * without AdvancedSlaveDynamics (ASD): velocity-type, `ΔSlavePos = Σ r_eff,i·ΔMaster_i`,
+//!   each `r_eff,i` slews to GearRatio_i with `|dr/dt| ≤ Acceleration / Master_i
+//!   AxisMaxVelocity` (as MC_GearInDyn). Masters must be at rest at Enable↑ (0x4B05) and the
+//!   slave in Standstill (or already a slave).
+//! * with ASD the slave runs through a jerk-limited v/a/j limiter (slave AxisMaxVelocity,
+//!   Acceleration, Deceleration, Jerk; 0 = slave default; the jerk is reduced to
+//!   max(Acceleration, Deceleration)/cycle time) and may couple onto moving masters and from
+//!   DiscreteMotion/ContinuousMotion (T9b):
+//!   VELOSYNC tracks `v* = Σ r_i·v_i`; POSSYNC1 tracks v* until velocity-synchronous, then the
+//!   ideal position `p* += Σ r_lim,i·Δm_i` (ratios slewed); POSSYNC2 tracks
+//!   `p* = s0 + Σ r_i·(m_i − m_i(t0))` (current ratios, t0 = coupling instant).
+//!   The phasing offset φ (§4.13) is added after the limiter.
+//!
+//! InGear: coupled, every r_eff at its GearRatio, and with ASD the limiter synchronous
+//! (|v − v*| ≤ 1e-6, POSSYNC also |p − p*| ≤ 1e-6). Once synchronous the slave follows the
+//! ideal motion exactly as long as the change of v* per cycle stays within its acceleration
+//! limit (so the steady state plans nothing and allocates nothing); otherwise the limiter
+//! (a Ruckig plan from the current state, every cycle) takes over again.
+//! Not modelled: MC_MoveSuperImposed on a multi-master slave with ASD (the overlay shift is
+//! taken back by the limiter).
+
+use super::*;
+use crate::gearing::Coupling;
+use motion_core::Profile1;
+use serde::{Deserialize, Serialize};
+
+crate::command::raw_enum! {
+    /// `E_GearInMultiMasterSyncMode` (§4.12.4).
+    GearInMultiMasterSyncMode: "Options.SyncMode" {
+        /// VELOSYNC (0, default): velocity-synchronous only.
+        #[default]
+        VeloSync = 0,
+        /// POSSYNC1 (1): position difference of dynamic limitation caught up later.
+        PosSync1 = 1,
+        /// POSSYNC2 (2): all position differences caught up (absolute coupling).
+        PosSync2 = 2,
+    }
+}
+
+/// `ST_GearInMultiMasterOptions` (§5.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct GearInMultiMasterOptions {
+    /// AdvancedSlaveDynamics: slave limited by v/a/j, may couple onto moving masters.
+    pub advanced_slave_dynamics: bool,
+    /// SyncMode (only with AdvancedSlaveDynamics).
+    pub sync_mode: GearInMultiMasterSyncMode,
+}
+
+/// MC_GearInMultiMaster (§4.12.4, Enable-type): one call with the current inputs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GearInMultiMaster {
+    /// Slave axis name.
+    pub slave: String,
+    /// Master1 axis name ("" = unused, an empty AXIS_REF).
+    pub master1: String,
+    /// Master2 axis name ("" = unused).
+    pub master2: String,
+    /// Master3 axis name ("" = unused).
+    pub master3: String,
+    /// Master4 axis name ("" = unused).
+    pub master4: String,
+    /// Enable.
+    pub enable: bool,
+    /// GearRatio1 (read every call while Enable).
+    pub gear_ratio1: f64,
+    /// GearRatio2.
+    pub gear_ratio2: f64,
+    /// GearRatio3.
+    pub gear_ratio3: f64,
+    /// GearRatio4.
+    pub gear_ratio4: f64,
+    /// Acceleration (≥ 0; 0 = slave AxisAcc) \[u/s²\].
+    pub acceleration: f64,
+    /// Deceleration (≥ 0; 0 = slave AxisDec; only with AdvancedSlaveDynamics) \[u/s²\].
+    pub deceleration: f64,
+    /// Jerk (≥ 0; 0 = slave AxisJerk; only with AdvancedSlaveDynamics) \[u/s³\].
+    pub jerk: f64,
+    /// BufferMode (not implemented by Tc2_MC2; ignored).
+    pub buffer_mode: BufferMode,
+    /// Options.
+    pub options: GearInMultiMasterOptions,
+}
+
+/// A multi-master coupling (on [`Coupling`]`.ext.multi`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Multi {
+    /// The enabled instance (None after Enable↓: ratios frozen).
+    pub owner: Option<CmdId>,
+    pub masters: [Option<usize>; 4],
+    /// GearRatio inputs.
+    pub target: [f64; 4],
+    /// Effective ratios.
+    pub ratio: [f64; 4],
+    /// Slew rates |dr/dt| \[1/s\].
+    pub rate: [f64; 4],
+    /// Master values (raw) of this cycle, filled before the slave's step.
+    pub inputs: [State1; 4],
+    /// Raw master positions of the previous cycle and at the coupling instant.
+    pub m_prev: [f64; 4],
+    pub m0: [f64; 4],
+    pub asd: bool,
+    pub sync_mode: GearInMultiMasterSyncMode,
+    /// Acceleration, Deceleration, Jerk inputs after defaulting.
+    pub acc: f64,
+    pub dec: f64,
+    pub jerk: f64,
+    /// Limiter state (slave set state without φ).
+    pub ls: State1,
+    /// Ideal position (POSSYNC) and whether POSSYNC1 reached velocity sync.
+    pub p_star: f64,
+    pub pos_synced: bool,
+    /// ASD: synchronous in the last cycle (the slave then follows the ideal motion exactly
+    /// while that stays within its acceleration limit; the limiter plans only otherwise).
+    pub synced: bool,
+    /// v* of the last cycle.
+    pub v_prev: f64,
+}
+
+impl Coupling {
+    /// All master axes of this coupling.
+    pub(crate) fn masters(&self) -> impl Iterator<Item = usize> + '_ {
+        let multi = self.ext.multi.map(|m| m.masters);
+        let single = multi.is_none().then_some(self.master);
+        single
+            .into_iter()
+            .chain(multi.into_iter().flat_map(|m| m.into_iter().flatten()))
+    }
+}
+
+impl AxisEngine {
+    pub(super) fn gear_in_multi_master(
+        &mut self,
+        slave: usize,
+        c: GearInMultiMaster,
+    ) -> Result<AxisReply, Rejection> {
+        let fb = "MC_GearInMultiMaster";
+        let name = self.axes[slave].name.clone();
+        let ratios = [c.gear_ratio1, c.gear_ratio2, c.gear_ratio3, c.gear_ratio4];
+        for (k, r) in ratios.iter().enumerate() {
+            finite(&name, fb, &format!("GearRatio{}", k + 1), *r)?;
+        }
+        for (f, v) in [
+            ("Acceleration", c.acceleration),
+            ("Deceleration", c.deceleration),
+            ("Jerk", c.jerk),
+        ] {
+            finite(&name, fb, f, v)?;
+            if v < 0.0 {
+                return Err(not_correct(
+                    &name,
+                    fb,
+                    f,
+                    v,
+                    "must be >= 0 (0 = axis default)",
+                ));
+            }
+        }
+        let cfg = &self.axes[slave].cfg;
+        let or = |x: f64, d: f64| if x > 0.0 { x } else { d };
+        let (acc, dec, jerk) = (
+            or(c.acceleration, cfg.acceleration),
+            or(c.deceleration, cfg.deceleration),
+            or(c.jerk, cfg.jerk),
+        );
+        let current = self.axes[slave].coupling.and_then(|cp| cp.ext.multi);
+        let running = current.and_then(|m| m.owner);
+        if !c.enable {
+            // Enable↓: the command ends, the coupling stays with the frozen ratios.
+            if let (Some(id), Some(mut cp)) = (running, self.axes[slave].coupling) {
+                if let Some(mut m) = cp.ext.multi {
+                    m.owner = None;
+                    m.target = m.ratio;
+                    cp.ext.multi = Some(m);
+                }
+                self.axes[slave].coupling = Some(cp);
+                self.axes[slave].ext.multi_owner = None;
+                self.fbs.done(id);
+                self.fbs.set_execute(id, false);
+                return Ok(Self::reply(id));
+            }
+            return Ok(self.untracked(ReplyValue::None));
+        }
+        if let (Some(id), Some(mut cp)) = (running, self.axes[slave].coupling) {
+            // Cyclic update of the running instance (ratios, dynamics).
+            if let Some(mut m) = cp.ext.multi {
+                m.target = ratios;
+                for k in 0..4 {
+                    if let Some(mi) = m.masters[k] {
+                        m.rate[k] = acc / self.axes[mi].cfg.max_velocity;
+                    }
+                }
+                (m.acc, m.dec, m.jerk) = (acc, dec, jerk);
+                cp.ext.multi = Some(m);
+            }
+            self.axes[slave].coupling = Some(cp);
+            return Ok(Self::reply(id));
+        }
+        // A new coupling: resolve the masters ("" = unused).
+        let names = [&c.master1, &c.master2, &c.master3, &c.master4];
+        let mut masters = [None; 4];
+        for (k, n) in names.iter().enumerate() {
+            if n.is_empty() {
+                continue;
+            }
+            let m = self.axis_index(n)?;
+            if m == slave {
+                return Err(reject(
+                    PARAMETER_NOT_CORRECT,
+                    format!("axis '{name}': {fb}: Master{} is the slave itself", k + 1),
+                ));
+            }
+            if masters.contains(&Some(m)) {
+                return Err(reject(
+                    PARAMETER_NOT_CORRECT,
+                    format!("axis '{name}': {fb}: master '{n}' is given twice"),
+                ));
+            }
+            if self.follows(m, slave) {
+                return Err(reject(
+                    PARAMETER_NOT_CORRECT,
+                    format!("axis '{name}': {fb}: coupling to '{n}' would close a loop"),
+                ));
+            }
+            masters[k] = Some(m);
+        }
+        let Some(first) = masters.iter().flatten().next().copied() else {
+            return Err(reject(
+                PARAMETER_NOT_CORRECT,
+                format!("axis '{name}': {fb}: no master given (Master1..4 all empty)"),
+            ));
+        };
+        let asd = c.options.advanced_slave_dynamics;
+        self.admit_state(slave, FbClass::GearInMultiMaster { asd }, fb)?;
+        if !asd {
+            for m in masters.iter().flatten() {
+                let ma = &self.axes[*m];
+                if ma.set.vel.abs() > 1e-9 {
+                    return Err(reject(
+                        COMMAND_NOT_PERMITTED,
+                        format!(
+                            "axis '{name}': {fb}: master '{}' is moving (v = {}); coupling onto \
+                             moving masters needs Options.AdvancedSlaveDynamics",
+                            ma.name, ma.set.vel
+                        ),
+                    ));
+                }
+            }
+        }
+        // Admitted.
+        let mut inputs = [State1::default(); 4];
+        let mut rate = [0.0; 4];
+        for k in 0..4 {
+            if let Some(m) = masters[k] {
+                inputs[k] = self.master_raw(slave, m);
+                rate[k] = acc / self.axes[m].cfg.max_velocity;
+            }
+        }
+        let m0 = inputs.map(|s| s.pos);
+        self.end_orphan_multi(slave);
+        let id = self
+            .fbs
+            .admit(slave, FbKind::GearInMultiMaster, CommandState::Active);
+        let a = &mut self.axes[slave];
+        a.cmd_no = a.cmd_no.wrapping_add(1);
+        // A previous coupling of this slave is replaced ("=" in the Syn column).
+        if let Some(old) = a.coupling.take() {
+            for o in [
+                old.dynamic.and_then(|d| d.owner),
+                old.ext.multi.and_then(|m| m.owner),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                self.fbs.aborted(o);
+            }
+        }
+        a.abort_motion(&mut self.fbs);
+        a.job = None;
+        a.last_target = None;
+        let k1 = masters.iter().position(|m| *m == Some(first)).unwrap_or(0);
+        let multi = Multi {
+            owner: Some(id),
+            masters,
+            target: ratios,
+            // Without ASD a new coupling starts at GearRatio (as MC_GearInDyn).
+            ratio: ratios,
+            rate,
+            inputs,
+            m_prev: m0,
+            m0,
+            asd,
+            sync_mode: c.options.sync_mode,
+            acc,
+            dec,
+            jerk,
+            ls: a.set,
+            p_star: a.set.pos,
+            pos_synced: false,
+            synced: false,
+            v_prev: 0.0,
+        };
+        a.coupling = Some(Coupling {
+            master: first,
+            ratio: ratios[k1],
+            m0: m0[k1],
+            s0: a.set.pos,
+            dynamic: None,
+            ext: super::hooks::CouplingExt {
+                phase: Default::default(),
+                multi: Some(multi),
+            },
+        });
+        a.ext.multi_owner = Some(id);
+        if !asd {
+            if let Some(i) = self.fbs.get_mut(id) {
+                i.in_velocity = true;
+            }
+        }
+        self.recompute_order();
+        Ok(Self::reply(id))
+    }
+
+    /// Ends an enabled instance whose coupling went away (GearOut with Enable FALSE is not
+    /// possible while enabled; error, power off, reset, a motion command on an allowed slave,
+    /// another coupling): CommandAborted, or Error with the axis error id.
+    fn end_orphan_multi(&mut self, i: usize) {
+        let a = &self.axes[i];
+        let Some(owner) = a.ext.multi_owner else {
+            return;
+        };
+        let live = a.coupling.and_then(|c| c.ext.multi).and_then(|m| m.owner);
+        if live == Some(owner) {
+            return;
+        }
+        let e = a.error_id;
+        self.axes[i].ext.multi_owner = None;
+        if e.is_none() {
+            self.fbs.aborted(owner);
+        } else {
+            self.fbs.error(owner, e);
+        }
+    }
+
+    /// True when axis `a` (indirectly) follows axis `b`.
+    fn follows(&self, a: usize, b: usize) -> bool {
+        let mut stack = vec![a];
+        let mut seen = vec![false; self.axes.len()];
+        while let Some(i) = stack.pop() {
+            if i == b {
+                return true;
+            }
+            if std::mem::replace(&mut seen[i], true) {
+                continue;
+            }
+            if let Some(c) = self.axes[i].coupling {
+                stack.extend(c.masters());
+            }
+        }
+        false
+    }
+
+    /// The master value slave `s` couples to (set or actual, 1064), in raw coordinates.
+    fn master_raw(&self, s: usize, m: usize) -> State1 {
+        let ma = &self.axes[m];
+        let ms = crate::gearing::MasterState {
+            set: ma.set,
+            act_pos: ma.act_pos,
+            act_velo: ma.act_velo,
+            coord_offset: ma.coord_offset,
+        };
+        let v = self.axes[s].master_value(&ms);
+        State1 {
+            pos: v.pos - ma.coord_offset,
+            ..v
+        }
+    }
+
+    /// Before the slave's step: this cycle's master values; ends an instance whose coupling
+    /// went away (CommandAborted, or Error with the axis error id). No alloc.
+    pub(super) fn multi_master_step(&mut self, i: usize) {
+        self.end_orphan_multi(i);
+        let Some(mut c) = self.axes[i].coupling else {
+            return;
+        };
+        let Some(mut m) = c.ext.multi else { return };
+        for k in 0..4 {
+            if let Some(mi) = m.masters[k] {
+                m.inputs[k] = self.master_raw(i, mi);
+            }
+        }
+        c.ext.multi = Some(m);
+        self.axes[i].coupling = Some(c);
+    }
+}
+
+impl Axis {
+    /// Set point of a multi-master slave for this cycle (called from `follow`). No alloc.
+    pub(crate) fn follow_multi(
+        &mut self,
+        mut c: Coupling,
+        mut m: Multi,
+        dt: f64,
+        fbs: &mut crate::handshake::Handshake,
+    ) {
+        let slew = !m.asd || m.sync_mode == GearInMultiMasterSyncMode::PosSync1;
+        let mut dp = 0.0;
+        let mut v_star = 0.0;
+        let mut a_star = 0.0;
+        for k in 0..4 {
+            if m.masters[k].is_none() {
+                continue;
+            }
+            let r0 = m.ratio[k];
+            m.ratio[k] = if slew {
+                let step = m.rate[k] * dt;
+                let diff = m.target[k] - r0;
+                if diff.abs() <= step {
+                    m.target[k]
+                } else {
+                    r0 + step * diff.signum()
+                }
+            } else {
+                m.target[k]
+            };
+            let s = m.inputs[k];
+            dp += m.ratio[k] * (s.pos - m.m_prev[k]);
+            v_star += m.ratio[k] * s.vel;
+            a_star += m.ratio[k] * s.acc + (m.ratio[k] - r0) / dt * s.vel;
+            m.m_prev[k] = s.pos;
+        }
+        let ratios_reached = (0..4).all(|k| m.masters[k].is_none() || m.ratio[k] == m.target[k]);
+        let in_gear;
+        if !m.asd {
+            self.set = State1 {
+                pos: self.set.pos + dp,
+                vel: v_star,
+                acc: a_star,
+            };
+            m.ls = self.set;
+            in_gear = ratios_reached;
+        } else {
+            let jerk = m.jerk.min(m.acc.max(m.dec) / dt);
+            let l = Limits {
+                velocity: self.cfg.max_velocity,
+                acceleration: m.acc,
+                deceleration: m.dec,
+                jerk,
+            };
+            let v_t = v_star.clamp(-l.velocity, l.velocity);
+            let track_pos = match m.sync_mode {
+                GearInMultiMasterSyncMode::VeloSync => false,
+                GearInMultiMasterSyncMode::PosSync1 => {
+                    if m.pos_synced {
+                        m.p_star += dp;
+                    } else if (m.ls.vel - v_t).abs() <= 1e-6 && m.ls.acc.abs() <= 1e-6 {
+                        m.pos_synced = true;
+                        m.p_star = m.ls.pos + dp;
+                    }
+                    m.pos_synced
+                }
+                GearInMultiMasterSyncMode::PosSync2 => {
+                    m.p_star = c.s0
+                        + (0..4)
+                            .filter(|&k| m.masters[k].is_some())
+                            .map(|k| m.ratio[k] * (m.inputs[k].pos - m.m0[k]))
+                            .sum::<f64>();
+                    true
+                }
+            };
+            let within = (v_star - m.v_prev).abs()
+                <= l.acceleration.max(l.deceleration) * dt * (1.0 + 1e-9)
+                && v_star.abs() <= l.velocity;
+            m.synced &= within && ratios_reached;
+            if m.synced {
+                // Synchronous: the ideal motion (no planning in steady state).
+                m.ls = State1 {
+                    pos: if track_pos { m.p_star } else { m.ls.pos + dp },
+                    vel: v_star,
+                    acc: a_star,
+                };
+            } else if track_pos {
+                // Track p* in the frame moving with the masters: the error (to the previous
+                // cycle's p*) is brought to 0 jerk-limited, then the frame is moved on.
+                let err = State1 {
+                    pos: m.ls.pos - (m.p_star - dp),
+                    vel: m.ls.vel - v_star,
+                    acc: m.ls.acc - a_star,
+                };
+                match Profile1::to_position(err, 0.0, 0.0, &l) {
+                    Ok(p) => {
+                        let r = p.at(dt);
+                        m.ls = State1 {
+                            pos: m.p_star + r.pos,
+                            vel: v_star + r.vel,
+                            acc: a_star + r.acc,
+                        };
+                    }
+                    Err(_) => m.ls.pos += m.ls.vel * dt,
+                }
+            } else {
+                match Profile1::to_velocity(m.ls, v_t, &l) {
+                    Ok(p) => m.ls = p.at(dt),
+                    Err(_) => m.ls.pos += m.ls.vel * dt,
+                }
+            }
+            let vel_sync = (m.ls.vel - v_star).abs() <= 1e-6;
+            let pos_sync = !track_pos || (m.ls.pos - m.p_star).abs() <= 1e-6;
+            in_gear = ratios_reached
+                && vel_sync
+                && pos_sync
+                && (m.sync_mode == GearInMultiMasterSyncMode::VeloSync || track_pos);
+            m.synced = in_gear;
+            m.v_prev = v_star;
+            let ph = c.ext.phase.s;
+            self.set = State1 {
+                pos: m.ls.pos + ph.pos,
+                vel: m.ls.vel + ph.vel,
+                acc: m.ls.acc + ph.acc,
+            };
+        }
+        self.target_pos = self.set.pos;
+        if let Some(id) = m.owner {
+            if let Some(i) = fbs.get_mut(id) {
+                i.in_velocity = in_gear;
+            }
+        }
+        if let Some(k) = m.masters.iter().position(|x| Some(c.master) == *x) {
+            c.ratio = m.ratio[k];
+        }
+        c.ext.multi = Some(m);
+        self.coupling = Some(c);
+    }
+}
