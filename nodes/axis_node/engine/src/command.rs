@@ -887,6 +887,8 @@ pub enum AxisCommand {
         /// The instance.
         id: CmdId,
     },
+    /// A collision-avoidance group block (collision_avoidance.md; [`crate::ca`]).
+    Ca(crate::ca::CaCommand),
 }
 
 /// The outputs of one FB instance ([`AxisCommand::ReadFbOutputs`]).
@@ -919,6 +921,8 @@ pub enum ReplyValue {
     Status(Box<AxisStatus>),
     /// [`AxisCommand::ReadFbOutputs`].
     Outputs(Box<InstanceOutputs>),
+    /// Values of the CA read/enable blocks ([`crate::ca::CaValue`]).
+    Ca(Box<crate::ca::CaValue>),
 }
 
 /// The answer to an accepted command.
@@ -973,7 +977,8 @@ impl AxisCommand {
             | HomeCalibrationCam { .. }
             | TorqueControlUpdate { .. }
             | TouchProbePlcEvent { .. }
-            | ReadFbOutputs { .. } => return None,
+            | ReadFbOutputs { .. }
+            | Ca(_) => return None,
             Sim(s) => match s {
                 self::Sim::InjectAxisError { axis, .. }
                 | self::Sim::DriveFault { axis, .. }

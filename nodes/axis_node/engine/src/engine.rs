@@ -33,6 +33,8 @@ pub struct AxisEngine {
     tick: u64,
     /// Step order: masters before their slaves (§4.12).
     order: Vec<usize>,
+    /// Collision-avoidance groups (collision_avoidance.md).
+    ca: crate::ca::CaGroups,
 }
 
 fn reject(id: ErrorId, msg: String) -> Rejection {
@@ -172,7 +174,17 @@ impl AxisEngine {
             instant_done: Vec::with_capacity(64),
             tick: 0,
             order,
+            ca: crate::ca::CaGroups::default(),
         })
+    }
+
+    /// Adds a collision-avoidance group (startup configuration, collision_avoidance.md §3.1).
+    pub fn add_ca_group(
+        &mut self,
+        name: impl Into<String>,
+        cfg: crate::ca::CaGroupConfig,
+    ) -> Result<(), Rejection> {
+        self.ca.add_group(name.into(), cfg)
     }
 
     /// Masters before slaves; recomputed when a coupling is made.
@@ -230,7 +242,10 @@ impl AxisEngine {
 
     /// Standard outputs of an admitted Execute-type instance (§3.1–§3.3).
     pub fn outputs(&self, id: CmdId) -> Option<ExecuteOutputs> {
-        self.fbs.outputs(id).map(|o| o.standard)
+        self.fbs
+            .outputs(id)
+            .map(|o| o.standard)
+            .or_else(|| self.ca.outputs(id))
     }
 
     /// All outputs of an instance (incl. InVelocity).
@@ -2166,6 +2181,11 @@ impl Engine for AxisEngine {
         match cmd {
             AxisCommand::SetExecute { id, execute } => return self.set_execute(id, execute),
             AxisCommand::ReadFbOutputs { id } => return self.read_fb_outputs(id),
+            AxisCommand::Ca(c) => {
+                return self
+                    .ca
+                    .command(c, &mut self.axes, &self.index, &mut self.fbs)
+            }
             AxisCommand::HomeCalibrationCam {
                 id,
                 calibration_cam,
@@ -2191,6 +2211,7 @@ impl Engine for AxisEngine {
             _ => {}
         }
         let ax = self.axis_index(cmd.axis().unwrap_or_default())?;
+        self.ca.screen_single_axis(ax, &cmd)?;
         // A move FB: its dynamics screened (§3.5), then admitted through the buffer logic (§3.6).
         macro_rules! positioning {
             ($c:expr, $kind:ident, $req:expr) => {{
@@ -2316,7 +2337,8 @@ impl Engine for AxisEngine {
             | AxisCommand::HomeCalibrationCam { .. }
             | AxisCommand::TorqueControlUpdate { .. }
             | AxisCommand::TouchProbePlcEvent { .. }
-            | AxisCommand::ReadFbOutputs { .. } => {
+            | AxisCommand::ReadFbOutputs { .. }
+            | AxisCommand::Ca(_) => {
                 unreachable!("handled above")
             }
         }
@@ -2337,6 +2359,7 @@ impl Engine for AxisEngine {
             self.fbs.done(id);
         }
         self.instant_done.clear();
+        self.ca.step(tick.dt, &mut self.axes, &mut self.fbs);
         for k in 0..self.order.len() {
             let i = self.order[k];
             let master = self.axes[i].coupling.map(|c| {
@@ -2368,6 +2391,7 @@ impl Engine for AxisEngine {
                     .map(|i| self.axis_status(i, master[i]))
                     .collect()
             },
+            ca_groups: self.ca.snapshot(&self.axes),
         }
     }
 

@@ -35,6 +35,7 @@
 //! [`config`] (§1.2 defaults).
 
 mod axis;
+pub mod ca;
 pub mod buffer;
 pub mod calc;
 pub mod command;
@@ -52,6 +53,7 @@ pub mod state;
 pub mod superposition;
 mod torque;
 
+pub use ca::bench::bench_ring;
 pub use command::*;
 pub use config::{AxisConfig, FollowingModel};
 pub use engine::{AxisEngine, PowerOutputs};

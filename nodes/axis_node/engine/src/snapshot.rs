@@ -167,6 +167,9 @@ pub struct AxisSnapshot {
     pub tick: u64,
     /// One entry per axis.
     pub axes: Vec<AxisStatus>,
+    /// Collision-avoidance groups (collision_avoidance.md §9.5).
+    #[serde(default)]
+    pub ca_groups: Vec<crate::ca::CaGroupStatus>,
 }
 
 impl AxisSnapshot {

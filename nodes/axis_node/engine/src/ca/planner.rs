@@ -1,0 +1,388 @@
+//! The CA follower planner (collision_avoidance.md §8.4–§8.6): one jerk-limited step of one
+//! axis in its travel frame, bounded by its command (C2, C3) and by the pair constraint C4.
+//!
+//! Everything here works in a *forward frame*: the axis moves (or is about to move) in the
+//! positive direction, `v ≥ 0`. The caller mirrors backward motion (`x → −x`). No alloc, no lock.
+
+/// Kinematic state of one axis \[mm, mm/s, mm/s²\].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Kin {
+    /// Position \[mm\].
+    pub x: f64,
+    /// Velocity \[mm/s\].
+    pub v: f64,
+    /// Acceleration \[mm/s²\].
+    pub a: f64,
+}
+
+impl Kin {
+    /// At rest at `x`.
+    pub fn rest(x: f64) -> Self {
+        Kin { x, v: 0.0, a: 0.0 }
+    }
+    /// Mirror image (`x → −x`).
+    pub fn neg(self) -> Self {
+        Kin {
+            x: -self.x,
+            v: -self.v,
+            a: -self.a,
+        }
+    }
+    /// v = a = 0.
+    pub fn at_rest(&self) -> bool {
+        self.v == 0.0 && self.a == 0.0
+    }
+}
+
+/// Exact integration of a constant jerk `j` over `t`.
+#[inline]
+pub fn integrate(s: Kin, j: f64, t: f64) -> Kin {
+    Kin {
+        x: s.x + t * (s.v + t * (s.a / 2.0 + t * j / 6.0)),
+        v: s.v + t * (s.a + t * j / 2.0),
+        a: s.a + j * t,
+    }
+}
+
+/// The jerk-limited braking profile P of §8.4 from `(v ≥ 0, a)` with limits `(d, jm)`: up to
+/// four constant-jerk phases `(jerk, duration)`.
+#[inline]
+fn brake_phases(v: f64, a: f64, d: f64, jm: f64) -> ([(f64, f64); 4], usize) {
+    let mut ph = [(0.0, 0.0); 4];
+    let mut n = 0;
+    let mut v = v.max(0.0);
+    let mut d0 = -a;
+    if a > 0.0 {
+        ph[n] = (-jm, a / jm);
+        n += 1;
+        v += a * a / (2.0 * jm);
+        d0 = 0.0;
+    }
+    if v <= d0 * d0 / (2.0 * jm) {
+        let t = (d0 - (d0 * d0 - 2.0 * jm * v).max(0.0).sqrt()) / jm;
+        ph[n] = (jm, t.max(0.0));
+        n += 1;
+    } else if d0 > d {
+        ph[n] = (jm, (d0 - d) / jm);
+        ph[n + 1] = (0.0, ((v - d0 * d0 / (2.0 * jm)) / d).max(0.0));
+        ph[n + 2] = (jm, d / jm);
+        n += 3;
+    } else {
+        let dp = (jm * v + d0 * d0 / 2.0).sqrt();
+        if dp <= d {
+            ph[n] = (-jm, ((dp - d0) / jm).max(0.0));
+            ph[n + 1] = (jm, dp / jm);
+            n += 2;
+        } else {
+            ph[n] = (-jm, ((d - d0) / jm).max(0.0));
+            ph[n + 1] = (0.0, ((v - (2.0 * d * d - d0 * d0) / (2.0 * jm)) / d).max(0.0));
+            ph[n + 2] = (jm, d / jm);
+            n += 3;
+        }
+    }
+    (ph, n)
+}
+
+/// `StopPoint(x, v, a; D, J)` for forward motion (`v ≥ 0`): where the braking profile P ends.
+#[inline]
+pub fn stop_point(s: Kin, d: f64, jm: f64) -> f64 {
+    if s.v <= 0.0 && s.a <= 0.0 {
+        return s.x;
+    }
+    let (ph, n) = brake_phases(s.v, s.a, d, jm);
+    let mut k = s;
+    for &(j, t) in &ph[..n] {
+        k = integrate(k, j, t);
+    }
+    k.x
+}
+
+/// `StopPoint` of a backward-moving state (mirror image).
+#[inline]
+pub fn stop_point_back(s: Kin, d: f64, jm: f64) -> f64 {
+    -stop_point(s.neg(), d, jm)
+}
+
+/// Advances exactly along the braking profile P for `t` (§8.5 step 7): phase switches inside
+/// the cycle included; ends at rest at the stop point when the profile ends within `t`.
+#[inline]
+pub fn advance_brake(s: Kin, d: f64, jm: f64, t: f64) -> Kin {
+    if s.v <= 0.0 && s.a <= 0.0 {
+        return Kin::rest(s.x);
+    }
+    let (ph, n) = brake_phases(s.v, s.a, d, jm);
+    let mut k = s;
+    let mut left = t;
+    for &(j, dur) in &ph[..n] {
+        if dur >= left {
+            let e = integrate(k, j, left);
+            return Kin {
+                v: e.v.max(0.0),
+                ..e
+            };
+        }
+        k = integrate(k, j, dur);
+        left -= dur;
+    }
+    Kin::rest(k.x)
+}
+
+/// The pair constraint C4 in the forward frame: `x' ≤ pos_bound` and
+/// `StopPoint(s'; D_b, J_b) ≤ stop_bound` (both already reduced by the gap).
+#[derive(Clone, Copy, Debug)]
+pub struct Bound {
+    /// Bound on the end position of the cycle (Fast: predecessor's predicted position − gap).
+    pub pos_bound: f64,
+    /// Bound on the CA stop point (Standard: predecessor's position − gap).
+    pub stop_bound: f64,
+}
+
+/// Inputs of one axis step (forward frame).
+#[derive(Clone, Copy, Debug)]
+pub struct StepIn {
+    /// Start-of-cycle state (`v ≥ 0`; `a ≥ 0` when `v = 0`).
+    pub s: Kin,
+    /// Velocity limit (× override) \[mm/s\].
+    pub vmax: f64,
+    /// Acceleration limit \[mm/s²\].
+    pub amax: f64,
+    /// Command deceleration \[mm/s²\].
+    pub dmax: f64,
+    /// Command jerk \[mm/s³\].
+    pub jmax: f64,
+    /// Position bound of the command (target); `None` = brake (halt/stop).
+    pub target: Option<f64>,
+    /// Committed CA braking deceleration and jerk (§8.4).
+    pub d_ca: f64,
+    /// Committed CA braking jerk.
+    pub j_ca: f64,
+    /// C4, if the axis has a responsible neighbour.
+    pub c4: Option<Bound>,
+    /// Cycle time \[s\].
+    pub t: f64,
+}
+
+/// Result of one axis step.
+#[derive(Clone, Copy, Debug)]
+pub struct StepOut {
+    /// New state.
+    pub s: Kin,
+    /// C4 bounded the motion in this cycle.
+    pub ca_limited: bool,
+    /// CA braking dynamics used for C4 this cycle (after the leftover rule).
+    pub d_b: f64,
+    /// Jerk counterpart of `d_b`.
+    pub j_b: f64,
+}
+
+/// Standstill threshold of §8.5 step 0 \[mm\].
+pub const START_THRESHOLD: f64 = 1e-4;
+const ITER: usize = 40;
+
+#[inline]
+fn c4_ok(b: &Bound, s: Kin, db: f64, jb: f64) -> bool {
+    s.x <= b.pos_bound && stop_point(s, db, jb) <= b.stop_bound
+}
+
+/// L(J′): no velocity sign change inside the cycle, end state not over-braked.
+#[inline]
+fn lower_ok(s: Kin, j: f64, t: f64, jp: f64) -> bool {
+    let e = integrate(s, j, t);
+    if e.v < 0.0 {
+        return false;
+    }
+    if j > 0.0 && s.a < 0.0 && -s.a / j < t && s.v - s.a * s.a / (2.0 * j) < 0.0 {
+        return false;
+    }
+    !(e.a < 0.0 && e.v < e.a * e.a / (2.0 * jp))
+}
+
+/// Largest j in `[lo, hi]` above the L threshold that satisfies `upper` (monotone).
+#[inline]
+fn search(
+    s: Kin,
+    t: f64,
+    lo: f64,
+    hi: f64,
+    jp: f64,
+    upper: impl Fn(Kin) -> bool,
+) -> Option<f64> {
+    // Smallest j satisfying L.
+    let jl = if lower_ok(s, lo, t, jp) {
+        lo
+    } else if !lower_ok(s, hi, t, jp) {
+        return None;
+    } else {
+        let (mut a, mut b) = (lo, hi);
+        for _ in 0..ITER {
+            let m = 0.5 * (a + b);
+            if lower_ok(s, m, t, jp) {
+                b = m
+            } else {
+                a = m
+            }
+        }
+        b
+    };
+    if upper(integrate(s, hi, t)) {
+        return Some(hi);
+    }
+    if !upper(integrate(s, jl, t)) {
+        return None;
+    }
+    let (mut a, mut b) = (jl, hi);
+    for _ in 0..ITER {
+        let m = 0.5 * (a + b);
+        if upper(integrate(s, m, t)) {
+            a = m
+        } else {
+            b = m
+        }
+    }
+    Some(a)
+}
+
+#[inline]
+fn range(s: Kin, amax: f64, d: f64, jm: f64, t: f64) -> (f64, f64) {
+    let lo = ((-d - s.a) / t).clamp(-jm, jm);
+    let hi = ((amax - s.a) / t).clamp(-jm, jm).max(lo);
+    (lo, hi)
+}
+
+/// One cycle of one axis (§8.5), forward frame.
+pub fn step(p: &StepIn) -> StepOut {
+    let s = p.s;
+    let t = p.t;
+    // Step 1: leftover rule.
+    let (jn, dn) = if s.a < -p.dmax || (s.a < 0.0 && s.v < s.a * s.a / (2.0 * p.jmax)) {
+        (p.jmax.max(p.j_ca), p.dmax.max(-s.a))
+    } else {
+        (p.jmax, p.dmax)
+    };
+    let db = p.d_ca.max(dn);
+    let jb = p.j_ca.max(jn);
+    let out = |s: Kin, lim: bool| StepOut {
+        s,
+        ca_limited: lim,
+        d_b: db,
+        j_b: jb,
+    };
+    // Step 0: standstill threshold.
+    if s.at_rest() {
+        let Some(target) = p.target else {
+            return out(s, false);
+        };
+        if target <= s.x {
+            return out(s, false);
+        }
+        if target - s.x <= START_THRESHOLD {
+            let ok = p.c4.is_none_or(|b| target <= b.pos_bound && target <= b.stop_bound);
+            return if ok {
+                out(Kin::rest(target), false)
+            } else {
+                out(s, true)
+            };
+        }
+        if let Some(b) = p.c4 {
+            let x1 = s.x + START_THRESHOLD;
+            if !(x1 <= b.pos_bound && x1 <= b.stop_bound) {
+                return out(s, true);
+            }
+        }
+    }
+    // Step 3: nominal jerk.
+    let j_nom = p.target.and_then(|target| {
+        let (lo, hi) = range(s, p.amax, dn, jn, t);
+        search(s, t, lo, hi, jn, |e| {
+            e.v + e.a * e.a.abs() / (2.0 * jn) <= p.vmax
+                && stop_point(e, dn.max(-e.a), jn) <= target
+        })
+    });
+    let brake_n = || advance_brake(s, dn, jn, t);
+    let brake_b = || advance_brake(s, db, jb, t);
+    // Step 4: the pair constraint.
+    let mut j_ca = f64::INFINITY;
+    if let Some(b) = p.c4 {
+        if !c4_ok(&b, s, db, jb) {
+            return out(brake_b(), true);
+        }
+        let (lo, hi) = range(s, p.amax, db, jb, t);
+        match search(s, t, lo, hi, jb, |e| c4_ok(&b, e, db, jb)) {
+            Some(j) => j_ca = j,
+            None => {
+                let e = brake_n();
+                return if c4_ok(&b, e, db, jb) {
+                    out(e, true)
+                } else {
+                    out(brake_b(), true)
+                };
+            }
+        }
+    }
+    // Step 5: end of the approach (or a halt).
+    let Some(j_nom) = j_nom else {
+        let e = brake_n();
+        if let Some(b) = p.c4 {
+            if !c4_ok(&b, e, db, jb) {
+                return out(brake_b(), true);
+            }
+        }
+        return out(e, false);
+    };
+    // Step 6.
+    let j = j_nom.min(j_ca);
+    let mut e = integrate(s, j, t);
+    if e.v < 0.0 {
+        e.v = 0.0;
+    }
+    out(e, j_ca < j_nom)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stop_point_closed_form_from_cruise() {
+        // v ≥ D²/J: v²/(2D) + v·D/(2J).
+        let s = Kin {
+            x: 0.0,
+            v: 1000.0,
+            a: 0.0,
+        };
+        let d = stop_point(s, 10000.0, 100000.0);
+        assert!((d - (50.0 + 50.0)).abs() < 1e-9, "{d}");
+        // v < D²/J: v·√(v/J).
+        let s = Kin {
+            x: 0.0,
+            v: 100.0,
+            a: 0.0,
+        };
+        let d = stop_point(s, 20000.0, 200000.0);
+        assert!((d - 100.0 * (100.0f64 / 200000.0).sqrt()).abs() < 1e-9, "{d}");
+    }
+
+    #[test]
+    fn single_axis_arrives_in_the_time_optimal_1_2_s() {
+        // §8.5 prototype: 0 → 1000, V 1000, A = D 10000, J 100000: exactly 1.200 s.
+        let mut s = Kin::rest(0.0);
+        let mut n = 0;
+        while !(s.at_rest() && (s.x - 1000.0).abs() <= 1e-6) && n < 5000 {
+            let o = step(&StepIn {
+                s,
+                vmax: 1000.0,
+                amax: 10000.0,
+                dmax: 10000.0,
+                jmax: 100000.0,
+                target: Some(1000.0),
+                d_ca: 10000.0,
+                j_ca: 100000.0,
+                c4: None,
+                t: 0.001,
+            });
+            s = o.s;
+            n += 1;
+        }
+        assert!((1199..=1201).contains(&n), "arrived after {n} cycles at {s:?}");
+    }
+}
