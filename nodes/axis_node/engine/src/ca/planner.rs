@@ -254,11 +254,16 @@ pub fn step(p: &StepIn) -> StepOut {
     let s = p.s;
     let t = p.t;
     // Step 1: leftover rule.
-    let (jn, dn) = if s.a < -p.dmax || (s.a < 0.0 && s.v < s.a * s.a / (2.0 * p.jmax)) {
+    let (mut jn, dn) = if s.a < -p.dmax || (s.a < 0.0 && s.v < s.a * s.a / (2.0 * p.jmax)) {
         (p.jmax.max(p.j_ca), p.dmax.max(-s.a))
     } else {
         (p.jmax, p.dmax)
     };
+    // The same for an acceleration left by a command with a higher jerk: ramping it down with
+    // the new, softer jerk would overshoot the velocity limit.
+    if s.a > 0.0 && s.v + s.a * s.a / (2.0 * p.jmax) > p.vmax {
+        jn = jn.max(p.j_ca);
+    }
     let db = p.d_ca.max(dn);
     let jb = p.j_ca.max(jn);
     let out = |s: Kin, lim: bool| StepOut {
@@ -294,8 +299,15 @@ pub fn step(p: &StepIn) -> StepOut {
     let j_nom = p.target.and_then(|target| {
         let (lo, hi) = range(s, p.amax, dn, jn, t);
         search(s, t, lo, hi, jn, |e| {
+            // C3 with the braking the *next* cycle will use (leftover rule on the end
+            // state): otherwise the approach overshoots when the rule switches off.
+            let j_next = if e.a < 0.0 && e.v < e.a * e.a / (2.0 * p.jmax) {
+                p.jmax.max(p.j_ca)
+            } else {
+                p.jmax
+            };
             e.v + e.a * e.a.abs() / (2.0 * jn) <= p.vmax
-                && stop_point(e, dn.max(-e.a), jn) <= target
+                && stop_point(e, p.dmax.max(-e.a), j_next) <= target
         })
     });
     let brake_n = || advance_brake(s, dn, jn, t);
