@@ -177,7 +177,8 @@ pub struct StepOut {
 
 /// Standstill threshold of §8.5 step 0 \[mm\].
 pub const START_THRESHOLD: f64 = 1e-4;
-const ITER: usize = 40;
+/// Bisection steps: jerk resolution 2·J/2³² (< 1e-4 mm/s³ at J = 2e5).
+const ITER: usize = 32;
 
 #[inline]
 fn c4_ok(b: &Bound, s: Kin, db: f64, jb: f64) -> bool {
@@ -197,33 +198,31 @@ fn lower_ok(s: Kin, j: f64, t: f64, jp: f64) -> bool {
     !(e.a < 0.0 && e.v < e.a * e.a / (2.0 * jp))
 }
 
-/// Largest j in `[lo, hi]` above the L threshold that satisfies `upper` (monotone).
+/// Smallest j in `[lo, hi]` satisfying L(J′) (None: none does).
 #[inline]
-fn search(
-    s: Kin,
-    t: f64,
-    lo: f64,
-    hi: f64,
-    jp: f64,
-    upper: impl Fn(Kin) -> bool,
-) -> Option<f64> {
-    // Smallest j satisfying L.
-    let jl = if lower_ok(s, lo, t, jp) {
-        lo
-    } else if !lower_ok(s, hi, t, jp) {
+fn lower_threshold(s: Kin, t: f64, lo: f64, hi: f64, jp: f64) -> Option<f64> {
+    if lower_ok(s, lo, t, jp) {
+        return Some(lo);
+    }
+    if !lower_ok(s, hi, t, jp) {
         return None;
-    } else {
-        let (mut a, mut b) = (lo, hi);
-        for _ in 0..ITER {
-            let m = 0.5 * (a + b);
-            if lower_ok(s, m, t, jp) {
-                b = m
-            } else {
-                a = m
-            }
+    }
+    let (mut a, mut b) = (lo, hi);
+    for _ in 0..ITER {
+        let m = 0.5 * (a + b);
+        if lower_ok(s, m, t, jp) {
+            b = m
+        } else {
+            a = m
         }
-        b
-    };
+    }
+    Some(b)
+}
+
+/// Largest j in `[jl, hi]` whose end state satisfies `upper` (monotone: true below a
+/// threshold); None if not even `jl` does.
+#[inline]
+fn search_from(s: Kin, t: f64, jl: f64, hi: f64, upper: impl Fn(Kin) -> bool) -> Option<f64> {
     if upper(integrate(s, hi, t)) {
         return Some(hi);
     }
@@ -240,6 +239,54 @@ fn search(
         }
     }
     Some(a)
+}
+
+/// Largest j in `[lo, hi]` above the L threshold that satisfies `upper` (monotone).
+#[inline]
+fn search(
+    s: Kin,
+    t: f64,
+    lo: f64,
+    hi: f64,
+    jp: f64,
+    upper: impl Fn(Kin) -> bool,
+) -> Option<f64> {
+    let jl = lower_threshold(s, t, lo, hi, jp)?;
+    search_from(s, t, jl, hi, upper)
+}
+
+/// The jerk at which C2 (`v' + a'|a'|/(2J) = V`) becomes tight, in closed form (numerically
+/// stable roots of the two quadratic branches a' ≥ 0 and a' < 0).
+#[inline]
+fn c2_limit(s: Kin, vmax: f64, jm: f64, t: f64) -> Option<f64> {
+    let al = t * t / (2.0 * jm);
+    // Branch a' >= 0: al j² + be j + ga = 0.
+    let be = t * t / 2.0 + s.a * t / jm;
+    let ga = s.v + s.a * t + s.a * s.a / (2.0 * jm) - vmax;
+    let disc = be * be - 4.0 * al * ga;
+    if disc >= 0.0 {
+        let den = be + disc.sqrt();
+        if den > 0.0 {
+            let j = -2.0 * ga / den;
+            if s.a + j * t >= 0.0 {
+                return Some(j);
+            }
+        }
+    }
+    // Branch a' < 0: -al j² + be2 j + ga2 = 0, increasing root.
+    let be2 = t * t / 2.0 - s.a * t / jm;
+    let ga2 = s.v + s.a * t - s.a * s.a / (2.0 * jm) - vmax;
+    let disc2 = be2 * be2 + 4.0 * al * ga2;
+    if disc2 >= 0.0 {
+        let den = be2 + disc2.sqrt();
+        if den > 0.0 {
+            let j = -2.0 * ga2 / den;
+            if s.a + j * t < 0.0 {
+                return Some(j);
+            }
+        }
+    }
+    None
 }
 
 #[inline]
@@ -295,20 +342,29 @@ pub fn step(p: &StepIn) -> StepOut {
             }
         }
     }
-    // Step 3: nominal jerk.
+    // Step 3: nominal jerk. C3 with the braking the *next* cycle will use (leftover rule on
+    // the end state): otherwise the approach overshoots when the rule switches off.
+    let c3 = |e: Kin, target: f64| {
+        let j_next = if e.a < 0.0 && e.v < e.a * e.a / (2.0 * p.jmax) {
+            p.jmax.max(p.j_ca)
+        } else {
+            p.jmax
+        };
+        stop_point(e, p.dmax.max(-e.a), j_next) <= target
+    };
+    let c2 = |e: Kin| e.v + e.a * e.a.abs() / (2.0 * jn) <= p.vmax * (1.0 + 1e-12);
     let j_nom = p.target.and_then(|target| {
         let (lo, hi) = range(s, p.amax, dn, jn, t);
-        search(s, t, lo, hi, jn, |e| {
-            // C3 with the braking the *next* cycle will use (leftover rule on the end
-            // state): otherwise the approach overshoots when the rule switches off.
-            let j_next = if e.a < 0.0 && e.v < e.a * e.a / (2.0 * p.jmax) {
-                p.jmax.max(p.j_ca)
-            } else {
-                p.jmax
-            };
-            e.v + e.a * e.a.abs() / (2.0 * jn) <= p.vmax
-                && stop_point(e, p.dmax.max(-e.a), j_next) <= target
-        })
+        // Fast path (cruise, acceleration): the C2 limit in closed form, then C3 checked once.
+        let jl = lower_threshold(s, t, lo, hi, jn)?;
+        let cand = c2_limit(s, p.vmax, jn, t).map_or(hi, |j| j.min(hi));
+        if cand >= jl {
+            let e = integrate(s, cand, t);
+            if c2(e) && c3(e, target) {
+                return Some(cand);
+            }
+        }
+        search_from(s, t, jl, hi, |e| c2(e) && c3(e, target))
     });
     let brake_n = || advance_brake(s, dn, jn, t);
     let brake_b = || advance_brake(s, db, jb, t);
@@ -317,6 +373,16 @@ pub fn step(p: &StepIn) -> StepOut {
     if let Some(b) = p.c4 {
         if !c4_ok(&b, s, db, jb) {
             return out(brake_b(), true);
+        }
+        // Fast path: the nominal step keeps C4 (L(J_n) implies L(J_b), J_b ≥ J_n) ⇒ j_ca ≥ j_nom.
+        if let Some(j) = j_nom {
+            if c4_ok(&b, integrate(s, j, t), db, jb) {
+                let mut e = integrate(s, j, t);
+                if e.v < 0.0 {
+                    e.v = 0.0;
+                }
+                return out(e, false);
+            }
         }
         let (lo, hi) = range(s, p.amax, db, jb, t);
         match search(s, t, lo, hi, jb, |e| c4_ok(&b, e, db, jb)) {
