@@ -22,6 +22,8 @@ use types::errors as err;
 
 /// Tolerance of gap checks and Done \[mm\] (§8.2).
 const EPS: f64 = 1e-6;
+/// Smallest retreat that starts establishing motion \[mm\] (§1.7: `e_i < x_i − 1e-6`).
+const ESTABLISH_MIN: f64 = 1e-6;
 /// Jerk used for MC_IGNORE (unlimited jerk of group halt/stop) \[mm/s³\].
 const JERK_UNLIMITED: f64 = 1e15;
 
@@ -123,6 +125,8 @@ struct Member {
     ca_limited: bool,
     min_margin: f64,
     updated: bool,
+    /// Establishing (§1.7): how far this axis has to retreat to open its gap \[mm\].
+    retreat: f64,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -150,6 +154,7 @@ pub struct CaGroup {
     halt: Option<CmdId>,
     stop: Option<CmdId>,
     stop_done: bool,
+    gap_budget_exceeded: bool,
     /// Scratch: processing order (no alloc in steady state).
     order: Vec<usize>,
     back: Vec<usize>,
@@ -194,6 +199,7 @@ impl CaGroup {
             halt: None,
             stop: None,
             stop_done: false,
+            gap_budget_exceeded: false,
             order: Vec::new(),
             back: Vec::new(),
         }
@@ -290,7 +296,51 @@ impl CaGroup {
     }
 
     fn busy(&self) -> bool {
-        self.members.iter().any(|m| m.job != Job::Idle)
+        self.members
+            .iter()
+            .any(|m| m.job != Job::Idle || m.retreat > ESTABLISH_MIN)
+    }
+
+    /// Establishing targets (§1.7): from the anchor backwards, each axis retreats by
+    /// `δ_i = max(0, δ_pred + g_i − gap_i)`. Only where establishing applies (idle axes with
+    /// standby gap control, commanded ones with active establishing). No alloc.
+    fn plan_establishing(&mut self) {
+        let n = self.n();
+        let standby = self.cfg.standby_gap_control;
+        let active = self.cfg.active_gap_establishing;
+        for m in &mut self.members {
+            m.retreat = 0.0;
+        }
+        self.gap_budget_exceeded = false;
+        if !(standby || active) || n < 2 {
+            return;
+        }
+        let mut anchor = 0;
+        if self.cfg.rail_is_ring {
+            let total: f64 = (0..n).map(|k| self.eff_gap(k)).sum();
+            if total > self.cfg.rail_length {
+                self.gap_budget_exceeded = true;
+                return;
+            }
+            for k in 1..n {
+                let (a, b) = (&self.members[k], &self.members[anchor]);
+                if a.gap > b.gap || (a.gap == b.gap && a.ident < b.ident) {
+                    anchor = k;
+                }
+            }
+        }
+        let mut delta = 0.0;
+        for i in 1..n {
+            let k = (anchor + i) % n;
+            let d = (delta + self.eff_gap(k) - self.members[k].gap).max(0.0);
+            let applies = match self.members[k].job {
+                Job::Idle => standby,
+                Job::Position { req, .. } => active && req.mode != GapControlMode::None,
+                Job::Brake { .. } => false,
+            };
+            self.members[k].retreat = if applies { d } else { 0.0 };
+            delta = d;
+        }
     }
 
     fn status(&self, axes: &[Axis]) -> GroupReadStatus {
@@ -396,7 +446,7 @@ impl CaGroups {
                 group_error_id: g.error_id.0,
                 group_axes_count: g.n() as u32,
                 act_override_factor: g.ovr_actual,
-                gap_budget_exceeded: false,
+                gap_budget_exceeded: g.gap_budget_exceeded,
                 axes: (0..g.n())
                     .map(|k| {
                         let m = &g.members[k];
@@ -1064,6 +1114,7 @@ impl CaGroups {
                 ca_limited: false,
                 min_margin: f64::INFINITY,
                 updated: false,
+                retreat: 0.0,
             },
         );
         gr.init_all_gaps(axes);
@@ -1203,6 +1254,13 @@ impl CaGroups {
         if gr.state == GroupNotReady {
             return;
         }
+        if !matches!(self.groups[g].state, GroupStopping | GroupErrorStop) {
+            self.groups[g].plan_establishing();
+        } else {
+            for m in &mut self.groups[g].members {
+                m.retreat = 0.0;
+            }
+        }
         self.plan_cycle(g, dt, axes);
         self.finish_jobs(g, axes, fbs);
         // Group blocks and T8/T10.
@@ -1314,7 +1372,8 @@ impl CaGroups {
         for i in 0..n {
             let k = (start + i) % n;
             gr.members[k].updated = false;
-            if frame_sign(axes[gr.members[k].axis].set, &gr.members[k].job) < 0.0 {
+            let m = &gr.members[k];
+            if frame_sign(axes[m.axis].set, &m.job, m.retreat) < 0.0 {
                 back.push(k);
             } else {
                 order.push(k);
@@ -1330,7 +1389,7 @@ impl CaGroups {
 }
 
 /// The travel frame of an axis: +1 forward, −1 backward (§8.5, mirrored).
-fn frame_sign(s: State1, job: &Job) -> f64 {
+fn frame_sign(s: State1, job: &Job, retreat: f64) -> f64 {
     if s.vel > 0.0 {
         1.0
     } else if s.vel < 0.0 {
@@ -1338,6 +1397,8 @@ fn frame_sign(s: State1, job: &Job) -> f64 {
     } else if s.acc > 0.0 {
         1.0
     } else if s.acc < 0.0 {
+        -1.0
+    } else if retreat > ESTABLISH_MIN {
         -1.0
     } else {
         match job {
@@ -1394,17 +1455,30 @@ impl CaGroup {
         let job = self.members[k].job;
         let ad = self.members[k].dynamics;
         let own_mode = self.mode_of(k);
-        let sg = frame_sign(s, &job);
-        // Command limits (idle: brake with the axis defaults if moving).
+        let retreat = self.members[k].retreat;
+        let establishing = retreat > ESTABLISH_MIN;
+        let sg = frame_sign(s, &job, retreat);
+        let cfg = &self.cfg;
+        // Command limits (idle: brake with the axis defaults if moving; establishing: retreat
+        // by `retreat`, with the group defaults when idle, §1.7).
         let (dy, target) = match job {
             Job::Position { req, target } => (
                 Dyn {
                     v: req.dy.v * self.ovr_actual,
                     ..req.dy
                 },
-                Some(target * sg),
+                Some(if establishing { s.pos - retreat } else { target } * sg),
             ),
             Job::Brake { req } => (req.dy, None),
+            Job::Idle if establishing => (
+                Dyn {
+                    v: cfg.default_velocity * self.ovr_actual,
+                    a: cfg.default_acceleration,
+                    d: cfg.default_deceleration,
+                    j: cfg.default_jerk,
+                },
+                Some((s.pos - retreat) * sg),
+            ),
             Job::Idle => {
                 if s.vel == 0.0 && s.acc == 0.0 {
                     self.members[k].ca_limited = false;
@@ -1462,7 +1536,7 @@ impl CaGroup {
                     }
                 }
             })
-        } else if self.cfg.gap_control_direction == GapControlDirection::Both {
+        } else if self.cfg.gap_control_direction == GapControlDirection::Both || establishing {
             self.succ(k).map(|b| {
                 let g = self.eff_gap(b);
                 let bs = axes[self.members[b].axis].set;
