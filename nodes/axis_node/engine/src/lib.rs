@@ -35,8 +35,8 @@
 //! [`config`] (§1.2 defaults).
 
 mod axis;
-pub mod ca;
 pub mod buffer;
+pub mod ca;
 pub mod calc;
 pub mod command;
 pub mod config;

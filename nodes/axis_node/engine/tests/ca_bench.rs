@@ -15,11 +15,21 @@ fn ns_per_axis_per_step() {
         let t0 = Instant::now();
         for k in 0..cycles {
             ev.clear();
-            e.step(Tick { index: 10_000 + k, dt: 0.001 }, &mut ev);
+            e.step(
+                Tick {
+                    index: 10_000 + k,
+                    dt: 0.001,
+                },
+                &mut ev,
+            );
         }
         let ns = t0.elapsed().as_nanos() as f64 / (cycles as f64 * n as f64);
         let s = e.snapshot();
-        let moving = s.ca_groups[0].axes.iter().filter(|a| a.velocity > 1.0).count();
+        let moving = s.ca_groups[0]
+            .axes
+            .iter()
+            .filter(|a| a.velocity > 1.0)
+            .count();
         println!("{n} axes: {ns:.1} ns per axis per step ({moving} moving)");
     }
 }

@@ -67,7 +67,10 @@ fn t2_enable_with_an_open_loop_is_not_ready() {
 #[test]
 fn t3_enable_of_an_empty_group_fails_and_stays_disabled() {
     let mut r = two();
-    assert_eq!(r.err(CaCommand::GroupEnable { group: G.into() }), GROUP_EMPTY);
+    assert_eq!(
+        r.err(CaCommand::GroupEnable { group: G.into() }),
+        GROUP_EMPTY
+    );
     assert_eq!(r.state(), GroupDisabled);
 }
 
@@ -100,7 +103,11 @@ fn t5_open_loop_while_moving_is_error_stop_axis_not_ready() {
     assert_eq!(r.cmd_state(a), CommandState::Error(AXIS_NOT_READY));
     assert_eq!(r.cmd_state(b), CommandState::Error(AXIS_NOT_READY));
     // The axis without loop froze; the other one brakes (max dynamics) to standstill.
-    assert!((r.pos("A") - xa).abs() < 1.0, "A froze near {xa}: {}", r.pos("A"));
+    assert!(
+        (r.pos("A") - xa).abs() < 1.0,
+        "A froze near {xa}: {}",
+        r.pos("A")
+    );
     assert_eq!(r.axis("A").velocity, 0.0);
     r.steps(300);
     assert!(r.group().all_axes_standing);
@@ -129,7 +136,11 @@ fn t7_standby_gap_control_starts_establishing_motion() {
     r.steps(2);
     assert_eq!(r.state(), GroupMoving, "establishing motion: Moving");
     r.steps(2000);
-    assert!((r.pos("A") - 400.0).abs() < 1e-3, "A retreated to 400: {}", r.pos("A"));
+    assert!(
+        (r.pos("A") - 400.0).abs() < 1e-3,
+        "A retreated to 400: {}",
+        r.pos("A")
+    );
     assert_eq!(r.pos("B"), 500.0, "the predecessor never moves");
     assert_eq!(r.state(), GroupStandby, "T8 after establishing");
 }
@@ -156,7 +167,11 @@ fn t9_group_stop_from_standby_moving_and_not_ready() {
     let s = stop(&mut r, true);
     assert_eq!(r.state(), GroupStopping, "from Moving");
     r.step();
-    assert_eq!(r.cmd_state(m), CommandState::Aborted, "all commands aborted");
+    assert_eq!(
+        r.cmd_state(m),
+        CommandState::Aborted,
+        "all commands aborted"
+    );
     assert_eq!(r.cmd_state(s), CommandState::Active);
 
     let mut r = two();
@@ -180,12 +195,16 @@ fn t10_stopping_ends_at_standstill_with_execute_false() {
     let o = r.out(s);
     assert!(o.done && o.busy && o.active, "Done while held: {o:?}");
     assert_eq!(r.state(), GroupStopping, "held while Execute TRUE");
-    assert_eq!(r.err(CaCommand::MoveAbsolute(MoveAbsoluteCa {
-        axis: "A".into(),
-        position: McLreal::Value(10.0),
-        velocity: McLreal::Value(10.0),
-        ..Default::default()
-    })), NOT_ALLOWED_IN_GROUP_STATE, "nothing executes while Stopping");
+    assert_eq!(
+        r.err(CaCommand::MoveAbsolute(MoveAbsoluteCa {
+            axis: "A".into(),
+            position: McLreal::Value(10.0),
+            velocity: McLreal::Value(10.0),
+            ..Default::default()
+        })),
+        NOT_ALLOWED_IN_GROUP_STATE,
+        "nothing executes while Stopping"
+    );
     stop(&mut r, false);
     r.step();
     assert_eq!(r.state(), GroupStandby);
@@ -279,7 +298,10 @@ fn t13_axis_error_in_an_enabled_group_is_error_stop_with_its_id() {
             assert_eq!(r.cmd_state(c), CommandState::Error(ErrorId(0x4550)));
         }
         let e = r.ca(CaCommand::GroupReadError { group: G.into() }).unwrap();
-        assert_eq!(e.value, axis_engine::ReplyValue::Ca(Box::new(CaValue::GroupErrorId(0x4550))));
+        assert_eq!(
+            e.value,
+            axis_engine::ReplyValue::Ca(Box::new(CaValue::GroupErrorId(0x4550)))
+        );
     }
 }
 
@@ -299,7 +321,10 @@ fn t15_reset_from_error_stop_is_standby_and_clears_axis_errors() {
     inject(&mut r, "A", 0x4550);
     r.steps(2);
     assert_eq!(r.state(), GroupErrorStop);
-    assert_eq!(r.err(CaCommand::GroupEnable { group: G.into() }), NOT_ALLOWED_IN_GROUP_STATE);
+    assert_eq!(
+        r.err(CaCommand::GroupEnable { group: G.into() }),
+        NOT_ALLOWED_IN_GROUP_STATE
+    );
     r.reset();
     assert_eq!(r.state(), GroupStandby);
     r.steps(2);
@@ -334,7 +359,11 @@ fn t17_removal_of_the_last_axis_disables() {
         r.enable();
         if st == GroupMoving {
             // A command that cannot progress (override 0) keeps a standing group Moving.
-            r.ok(CaCommand::GroupSetOverride { group: G.into(), enable: true, vel_factor: 0.0 });
+            r.ok(CaCommand::GroupSetOverride {
+                group: G.into(),
+                enable: true,
+                vel_factor: 0.0,
+            });
             r.steps(200);
             r.mv_abs("A", 100.0, 100.0);
             r.steps(10);
@@ -399,7 +428,10 @@ fn single_axis_motion_on_a_member_only_while_disabled() {
         buffer_mode: axis_engine::BufferMode::Aborting,
         options: Default::default(),
     });
-    assert_eq!(r.e.command(mv.clone()).unwrap_err().error_id, NOT_ALLOWED_IN_GROUP_STATE);
+    assert_eq!(
+        r.e.command(mv.clone()).unwrap_err().error_id,
+        NOT_ALLOWED_IN_GROUP_STATE
+    );
     r.disable();
     r.e.command(mv).unwrap();
 }

@@ -34,13 +34,13 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
         ..ring(3000.0)
     };
     let mut r = CaRig::new(&m, cfg);
-    let mut prev_a = vec![0.0; 10];
+    let mut prev_a = [0.0; 10];
     // G1 floor per CA position: the effective gap, or (after an increase of the effective gap
     // of an axis below it) the previous value until regained or stopped, then never
     // decreasing (§8.2 G1).
-    let mut floor = vec![100.0f64; 10];
-    let mut tgt_prev = vec![100.0f64; 10];
-    let mut catching = vec![false; 10];
+    let mut floor = [100.0f64; 10];
+    let mut tgt_prev = [100.0f64; 10];
+    let mut catching = [false; 10];
     let mut worst = f64::INFINITY;
     let mut moved = 0.0;
     let mut halts = 0;
@@ -52,19 +52,31 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
             let acc = rng.gen_range(100.0..AMAX);
             let dec = rng.gen_range(100.0..AMAX);
             let v = rng.gen_range(50.0..VMAX);
-            let gap = if rng.gen_bool(0.5) { McLreal::Unset } else { mcl(rng.gen_range(100.0..140.0)) };
+            let gap = if rng.gen_bool(0.5) {
+                McLreal::Unset
+            } else {
+                mcl(rng.gen_range(100.0..140.0))
+            };
             let mode = GapControlMode::from_raw(rng.gen_range(0..3)).unwrap();
             let backward = direction == GapControlDirection::Both && rng.gen_bool(0.3);
             // In direction Positive a reverse move is unprotected (§1.5): forward targets lie
             // beyond the axis' stop point with the new command's braking.
             let st = r.axis(&names[i]);
             let reach = planner::stop_point(
-                planner::Kin { x: 0.0, v: st.velocity.max(0.0), a: st.acceleration },
+                planner::Kin {
+                    x: 0.0,
+                    v: st.velocity.max(0.0),
+                    a: st.acceleration,
+                },
                 dec.max(-st.acceleration),
                 jerk,
             ) + 1.0;
             let d = rng.gen_range(reach..reach + 2000.0);
-            let d = if backward { -rng.gen_range(0.0..2000.0) } else { d };
+            let d = if backward {
+                -rng.gen_range(0.0..2000.0)
+            } else {
+                d
+            };
             let res = if rng.gen_bool(0.5) {
                 let target = st.position + d;
                 let (position, dir) = if rng.gen_bool(0.5) || backward {
@@ -147,8 +159,18 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
                 floor[k] = tgt.min(floor[k].max(gap));
             }
             tgt_prev[k] = tgt;
-            assert!(a.velocity.abs() <= VMAX * (1.0 + 1e-5), "{} v {}", a.name, a.velocity);
-            assert!(a.acceleration.abs() <= AMAX * (1.0 + 1e-6), "{} a {}", a.name, a.acceleration);
+            assert!(
+                a.velocity.abs() <= VMAX * (1.0 + 1e-5),
+                "{} v {}",
+                a.name,
+                a.velocity
+            );
+            assert!(
+                a.acceleration.abs() <= AMAX * (1.0 + 1e-6),
+                "{} a {}",
+                a.name,
+                a.acceleration
+            );
             let da = (a.acceleration - prev_a[k]).abs();
             assert!(
                 da <= JMAX * T * (1.0 + 1e-6),
@@ -161,14 +183,23 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
             moved += a.velocity.abs() * T;
         }
     }
-    assert!(moved > 10_000.0, "the traffic really moved the train: {moved} mm");
+    assert!(
+        moved > 10_000.0,
+        "the traffic really moved the train: {moved} mm"
+    );
     assert!(halts > 5, "the leader was halted {halts} times");
     assert!(worst.is_finite());
 }
 
 fn seeds() -> Vec<u64> {
-    let runs: u64 = std::env::var("CA_STRESS_RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(3);
-    match std::env::var("CA_STRESS_SEED").ok().and_then(|s| s.parse().ok()) {
+    let runs: u64 = std::env::var("CA_STRESS_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3);
+    match std::env::var("CA_STRESS_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
         Some(s) => vec![s],
         None => (1..=runs).collect(),
     }
@@ -177,20 +208,32 @@ fn seeds() -> Vec<u64> {
 #[test]
 fn standard_positive_random_traffic_never_violates_a_gap() {
     for s in seeds() {
-        run(s, DefaultGapControlMode::Standard, GapControlDirection::Positive);
+        run(
+            s,
+            DefaultGapControlMode::Standard,
+            GapControlDirection::Positive,
+        );
     }
 }
 
 #[test]
 fn fast_positive_random_traffic_never_violates_a_gap() {
     for s in seeds() {
-        run(s, DefaultGapControlMode::Fast, GapControlDirection::Positive);
+        run(
+            s,
+            DefaultGapControlMode::Fast,
+            GapControlDirection::Positive,
+        );
     }
 }
 
 #[test]
 fn standard_both_random_traffic_with_reverse_moves_never_violates_a_gap() {
     for s in seeds() {
-        run(s, DefaultGapControlMode::Standard, GapControlDirection::Both);
+        run(
+            s,
+            DefaultGapControlMode::Standard,
+            GapControlDirection::Both,
+        );
     }
 }

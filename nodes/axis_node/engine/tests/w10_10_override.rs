@@ -8,8 +8,20 @@ use ca_common::*;
 
 fn set(r: &mut CaRig, f: f64) -> f64 {
     r.step();
-    let rep = r.ca(CaCommand::GroupSetOverride { group: G.into(), enable: true, vel_factor: f }).unwrap();
-    assert!(matches!(*match rep.value { ReplyValue::Ca(v) => v, _ => panic!() }, CaValue::Override { enabled: true, .. }));
+    let rep = r
+        .ca(CaCommand::GroupSetOverride {
+            group: G.into(),
+            enable: true,
+            vel_factor: f,
+        })
+        .unwrap();
+    assert!(matches!(
+        *match rep.value {
+            ReplyValue::Ca(v) => v,
+            _ => panic!(),
+        },
+        CaValue::Override { enabled: true, .. }
+    ));
     r.steps(200);
     r.group().act_override_factor
 }
@@ -20,7 +32,11 @@ fn factor_is_clamped_to_0_1() {
     assert_eq!(set(&mut r, 1.5), 1.0);
     assert_eq!(set(&mut r, -0.2), 0.0);
     assert_eq!(
-        r.err(CaCommand::GroupSetOverride { group: G.into(), enable: true, vel_factor: f64::NAN }),
+        r.err(CaCommand::GroupSetOverride {
+            group: G.into(),
+            enable: true,
+            vel_factor: f64::NAN
+        }),
         PARAMETER_NOT_CORRECT
     );
 }
@@ -31,11 +47,19 @@ fn half_override_during_a_1000_mm_s_move_cruises_at_500() {
     r.mv_abs("A", 9000.0, 1000.0);
     r.steps(500);
     assert!((r.axis("A").velocity - 1000.0).abs() < 1e-6);
-    r.ok(CaCommand::GroupSetOverride { group: G.into(), enable: true, vel_factor: 0.5 });
+    r.ok(CaCommand::GroupSetOverride {
+        group: G.into(),
+        enable: true,
+        vel_factor: 0.5,
+    });
     r.steps(50);
     let f = r.group().act_override_factor;
     assert!((f - 0.75).abs() < 0.02, "linear ramp over 0.1 s: {f}");
     r.steps(400);
     assert_eq!(r.group().act_override_factor, 0.5);
-    assert!((r.axis("A").velocity - 500.0).abs() < 1e-3, "cruise 500: {}", r.axis("A").velocity);
+    assert!(
+        (r.axis("A").velocity - 500.0).abs() < 1e-3,
+        "cruise 500: {}",
+        r.axis("A").velocity
+    );
 }

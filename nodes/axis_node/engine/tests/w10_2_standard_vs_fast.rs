@@ -12,14 +12,25 @@ fn run(mode: DefaultGapControlMode) -> (f64, f64) {
         default_gap_control_mode: mode,
         ..ring(3000.0)
     };
-    let mut r = CaRig::new(&[("M1", 0.0), ("M2", -100.0), ("M3", -200.0), ("M4", -300.0)], cfg);
-    let ids: Vec<_> = ["M1", "M2", "M3", "M4"].iter().map(|n| r.mv_abs(n, 3000.0, 1000.0)).collect();
+    let mut r = CaRig::new(
+        &[("M1", 0.0), ("M2", -100.0), ("M3", -200.0), ("M4", -300.0)],
+        cfg,
+    );
+    let ids: Vec<_> = ["M1", "M2", "M3", "M4"]
+        .iter()
+        .map(|n| r.mv_abs(n, 3000.0, 1000.0))
+        .collect();
     let mut max_gap: f64 = 0.0;
     let mut rest = None;
     for k in 1..=6000 {
         r.step();
         for a in r.group().axes {
-            assert!(a.gap_actual >= 100.0 - 1e-6, "{} gap {}", a.name, a.gap_actual);
+            assert!(
+                a.gap_actual >= 100.0 - 1e-6,
+                "{} gap {}",
+                a.name,
+                a.gap_actual
+            );
             if a.name != "M1" {
                 max_gap = max_gap.max(a.gap_actual);
             }
@@ -34,7 +45,11 @@ fn run(mode: DefaultGapControlMode) -> (f64, f64) {
     assert!(r.axis("M1").modulo_position.abs() < 1e-9);
     for (i, x) in [2900.0, 2800.0, 2700.0].iter().enumerate() {
         let n = format!("M{}", i + 2);
-        assert!((r.pos(&n) - x).abs() < 1e-3, "{n} rests at {x}: {}", r.pos(&n));
+        assert!(
+            (r.pos(&n) - x).abs() < 1e-3,
+            "{n} rests at {x}: {}",
+            r.pos(&n)
+        );
         assert_eq!(r.cmd_state(ids[i + 1]), CommandState::Active);
     }
     (max_gap, rest.expect("M4 came to rest"))

@@ -31,8 +31,15 @@ fn scenario(mode: DefaultGapControlMode) -> (f64, f64) {
     let check = |r: &CaRig, prev_a: &mut f64| {
         let fa = r.axis("F");
         assert!(fa.gap_actual >= 100.0 - 1e-6, "gap {}", fa.gap_actual);
-        assert!(fa.acceleration >= -20000.0 * (1.0 + 1e-6), "F decel {}", fa.acceleration);
-        assert!((fa.acceleration - *prev_a).abs() <= 200000.0 * T * (1.0 + 1e-6), "F jerk");
+        assert!(
+            fa.acceleration >= -20000.0 * (1.0 + 1e-6),
+            "F decel {}",
+            fa.acceleration
+        );
+        assert!(
+            (fa.acceleration - *prev_a).abs() <= 200000.0 * T * (1.0 + 1e-6),
+            "F jerk"
+        );
         *prev_a = fa.acceleration;
         fa.gap_actual
     };
@@ -40,7 +47,10 @@ fn scenario(mode: DefaultGapControlMode) -> (f64, f64) {
         r.step();
         let g = check(&r, &mut prev_a);
         if k == 300 {
-            assert!((r.axis("L").velocity - 1000.0).abs() < 1e-3, "L at 1000 mm/s after 0.3 s");
+            assert!(
+                (r.axis("L").velocity - 1000.0).abs() < 1e-3,
+                "L at 1000 mm/s after 0.3 s"
+            );
         }
         if k > 1000 {
             max_cruise_gap = max_cruise_gap.max(g);
@@ -58,15 +68,29 @@ fn scenario(mode: DefaultGapControlMode) -> (f64, f64) {
         r.step();
         check(&r, &mut prev_a);
     }
-    assert_eq!(r.cmd_state(l), CommandState::Aborted, "L's move CommandAborted");
+    assert_eq!(
+        r.cmd_state(l),
+        CommandState::Aborted,
+        "L's move CommandAborted"
+    );
     assert_eq!(r.cmd_state(h), CommandState::Done, "halt Done");
     let rest = r.pos("L");
-    assert!((rest - (xl + 70.711)).abs() < 1e-3, "L stops after 70.711 mm: {}", rest - xl);
-    assert!((r.pos("F") - (rest - 100.0)).abs() < 1e-3, "F rests 100 behind: {}", r.pos("F"));
+    assert!(
+        (rest - (xl + 70.711)).abs() < 1e-3,
+        "L stops after 70.711 mm: {}",
+        rest - xl
+    );
+    assert!(
+        (r.pos("F") - (rest - 100.0)).abs() < 1e-3,
+        "F rests 100 behind: {}",
+        r.pos("F")
+    );
     assert_eq!(r.cmd_state(f), CommandState::Active, "F Busy, not Done");
     // Resume.
     let l2 = mv(&mut r, "L", 5000.0);
-    r.until(10000, |r| r.cmd_state(f) == CommandState::Done && r.cmd_state(l2) == CommandState::Done);
+    r.until(10000, |r| {
+        r.cmd_state(f) == CommandState::Done && r.cmd_state(l2) == CommandState::Done
+    });
     assert_eq!(r.pos("F"), 3000.0);
     assert_eq!(r.pos("L"), 5000.0);
     (max_cruise_gap, rest)
@@ -75,7 +99,10 @@ fn scenario(mode: DefaultGapControlMode) -> (f64, f64) {
 #[test]
 fn standard_follower_rests_100_behind_and_resumes() {
     let (gap, _) = scenario(DefaultGapControlMode::Standard);
-    assert!((gap - 250.0).abs() < 5.0, "Standard cruise gap ≈ 250: {gap}");
+    assert!(
+        (gap - 250.0).abs() < 5.0,
+        "Standard cruise gap ≈ 250: {gap}"
+    );
 }
 
 #[test]

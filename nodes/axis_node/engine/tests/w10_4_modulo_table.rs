@@ -7,7 +7,8 @@ use axis_engine::ca::CaDirection::{self, *};
 use motion_core::ErrorId;
 
 /// (direction, start, target, turns, expected relative move or error id).
-const CASES: &[(CaDirection, f64, f64, u32, Result<f64, ErrorId>)] = &[
+type Row = (CaDirection, f64, f64, u32, Result<f64, ErrorId>);
+const CASES: &[Row] = &[
     (Positive, 110.0, 10.0, 0, Ok(0.0)),
     (Positive, 110.9, 10.0, 0, Ok(-0.9)),
     (Positive, 112.0, 10.0, 0, Ok(98.0)),
@@ -67,14 +68,21 @@ fn additional_turns_example_360() {
 #[test]
 fn non_modulo_turns_and_open_rail() {
     assert_eq!(
-        target(5.0, 360.0, 1.0, 10.0, NonModulo, 1, true).unwrap_err().error_id,
+        target(5.0, 360.0, 1.0, 10.0, NonModulo, 1, true)
+            .unwrap_err()
+            .error_id,
         INVALID_ADDITIONAL_TURNS
     );
     assert_eq!(
-        target(5.0, 360.0, 1.0, 10.0, Positive, 0, false).unwrap_err().error_id,
+        target(5.0, 360.0, 1.0, 10.0, Positive, 0, false)
+            .unwrap_err()
+            .error_id,
         MODULO_ON_OPEN_RAIL
     );
-    assert_eq!(target(5.0, 360.0, 1.0, 1234.5, NonModulo, 0, false).unwrap(), 1234.5);
+    assert_eq!(
+        target(5.0, 360.0, 1.0, 1234.5, NonModulo, 0, false).unwrap(),
+        1234.5
+    );
     // p = M is treated as 0.
     let e = target(5.0, 360.0, 1.0, 360.0, Positive, 0, true).unwrap();
     assert!((e - 360.0).abs() < 1e-9);

@@ -34,10 +34,16 @@ fn both_reverse_move_stops_at_the_gap_and_continues_when_a_leaves() {
         r.step();
         assert!(r.axis("A").gap_actual >= 100.0 - 1e-6);
     }
-    assert!((r.pos("B") - 1100.0).abs() < 1e-3, "B stops at 1100: {}", r.pos("B"));
+    assert!(
+        (r.pos("B") - 1100.0).abs() < 1e-3,
+        "B stops at 1100: {}",
+        r.pos("B")
+    );
     assert_eq!(r.cmd_state(b), CommandState::Active, "B Busy");
     let a = mv(&mut r, "A", 800.0);
-    r.until(5000, |r| r.cmd_state(a) == CommandState::Done && r.cmd_state(b) == CommandState::Done);
+    r.until(5000, |r| {
+        r.cmd_state(a) == CommandState::Done && r.cmd_state(b) == CommandState::Done
+    });
     assert_eq!(r.pos("A"), 800.0);
     assert_eq!(r.pos("B"), 1050.0);
 }
@@ -51,5 +57,9 @@ fn positive_reverse_move_is_not_limited_and_reports_the_violation() {
     let a = r.axis("A");
     assert!((a.gap_actual - 50.0).abs() < 1e-9, "gap_actual 50");
     assert!(a.gap_violation, "gap_violation TRUE");
-    assert!((a.min_gap_margin + 50.0).abs() < 1e-6, "min_gap_margin ≈ −50: {}", a.min_gap_margin);
+    assert!(
+        (a.min_gap_margin + 50.0).abs() < 1e-6,
+        "min_gap_margin ≈ −50: {}",
+        a.min_gap_margin
+    );
 }

@@ -22,8 +22,15 @@ fn rig(establishing: bool) -> (CaRig, motion_core::CmdId) {
         ..Default::default()
     }));
     r.steps(3000);
-    assert!((r.pos("F") - 2400.0).abs() < 1e-3, "F waits at 2400: {}", r.pos("F"));
-    r.ok(CaCommand::UpdateGap { axis: "F".into(), gap: McLreal::Value(150.0) });
+    assert!(
+        (r.pos("F") - 2400.0).abs() < 1e-3,
+        "F waits at 2400: {}",
+        r.pos("F")
+    );
+    r.ok(CaCommand::UpdateGap {
+        axis: "F".into(),
+        gap: McLreal::Value(150.0),
+    });
     (r, f)
 }
 
@@ -31,13 +38,21 @@ fn rig(establishing: bool) -> (CaRig, motion_core::CmdId) {
 fn establishing_off_f_stays_then_follows_with_the_new_gap() {
     let (mut r, f) = rig(false);
     r.steps(1000);
-    assert!((r.pos("F") - 2400.0).abs() < 1e-3, "no motion: {}", r.pos("F"));
+    assert!(
+        (r.pos("F") - 2400.0).abs() < 1e-3,
+        "no motion: {}",
+        r.pos("F")
+    );
     assert_eq!(r.axis("F").gap_target, 150.0);
     let l = r.mv_rel("L", 300.0, 1000.0);
     r.until(3000, |r| r.cmd_state(l) == CommandState::Done);
     r.steps(2000);
     assert_eq!(r.pos("L"), 2800.0);
-    assert!((r.pos("F") - 2650.0).abs() < 1e-3, "F at 2650: {}", r.pos("F"));
+    assert!(
+        (r.pos("F") - 2650.0).abs() < 1e-3,
+        "F at 2650: {}",
+        r.pos("F")
+    );
     assert_eq!(r.cmd_state(f), CommandState::Active, "Busy");
 }
 
@@ -45,11 +60,19 @@ fn establishing_off_f_stays_then_follows_with_the_new_gap() {
 fn establishing_on_f_retreats_then_follows() {
     let (mut r, f) = rig(true);
     r.steps(1000);
-    assert!((r.pos("F") - 2350.0).abs() < 1e-3, "F retreats to 2350: {}", r.pos("F"));
+    assert!(
+        (r.pos("F") - 2350.0).abs() < 1e-3,
+        "F retreats to 2350: {}",
+        r.pos("F")
+    );
     let l = r.mv_rel("L", 300.0, 1000.0);
     r.until(3000, |r| r.cmd_state(l) == CommandState::Done);
     r.steps(2000);
-    assert!((r.pos("F") - 2650.0).abs() < 1e-3, "F at 2650: {}", r.pos("F"));
+    assert!(
+        (r.pos("F") - 2650.0).abs() < 1e-3,
+        "F at 2650: {}",
+        r.pos("F")
+    );
     assert_eq!(r.cmd_state(f), CommandState::Active);
 }
 
@@ -58,7 +81,10 @@ fn update_gap_without_continuous_update_is_refused() {
     let mut r = CaRig::new(&[("L", 2500.0), ("F", 1000.0)], open(5000.0));
     let f = r.mv_abs("F", 3000.0, 1000.0);
     r.steps(3000);
-    let e = r.err(CaCommand::UpdateGap { axis: "F".into(), gap: McLreal::Value(150.0) });
+    let e = r.err(CaCommand::UpdateGap {
+        axis: "F".into(),
+        gap: McLreal::Value(150.0),
+    });
     assert_eq!(e, CONTINUOUS_UPDATE_NOT_ENABLED);
     assert_eq!(r.axis("F").gap_target, 100.0, "running command unaffected");
     assert_eq!(r.cmd_state(f), CommandState::Active);

@@ -17,8 +17,8 @@ use crate::handshake::Handshake;
 use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, ExecuteOutputs, Rejection, State1};
 use planner::{stop_point, stop_point_back, Bound, Kin, StepIn};
 use std::collections::HashMap;
-pub use types::*;
 use types::errors as err;
+pub use types::*;
 
 /// Tolerance of gap checks and Done \[mm\] (§8.2).
 const EPS: f64 = 1e-6;
@@ -88,9 +88,14 @@ struct Request {
 enum Job {
     Idle,
     /// Move to `target` (absolute).
-    Position { req: Request, target: f64 },
+    Position {
+        req: Request,
+        target: f64,
+    },
     /// Brake to standstill (HaltCA, group halt/stop/error).
-    Brake { req: Request },
+    Brake {
+        req: Request,
+    },
 }
 
 impl Job {
@@ -819,7 +824,9 @@ impl CaGroups {
                     }
                     _ => Err(rej(
                         err::CONTINUOUS_UPDATE_NOT_ENABLED,
-                        format!("update_gap: axis '{axis}' has no active command with ContinuousUpdate"),
+                        format!(
+                            "update_gap: axis '{axis}' has no active command with ContinuousUpdate"
+                        ),
                     )),
                 }
             }
@@ -865,12 +872,15 @@ impl CaGroups {
         Ok((g, k))
     }
 
-    fn motion_admissible(&self, g: usize, k: usize, axes: &[Axis], fb: &str) -> Result<(), Rejection> {
+    fn motion_admissible(
+        &self,
+        g: usize,
+        k: usize,
+        axes: &[Axis],
+        fb: &str,
+    ) -> Result<(), Rejection> {
         let gr = &self.groups[g];
-        if !matches!(
-            gr.state,
-            GroupState::GroupStandby | GroupState::GroupMoving
-        ) {
+        if !matches!(gr.state, GroupState::GroupStandby | GroupState::GroupMoving) {
             return Err(rej(
                 err::NOT_ALLOWED_IN_GROUP_STATE,
                 format!("{fb}: group '{}' is {:?}", gr.name, gr.state),
@@ -895,7 +905,10 @@ impl CaGroups {
             {
                 Ok(v)
             }
-            other => Err(rej(err::INVALID_GAP, format!("Gap = {other:?} is not valid"))),
+            other => Err(rej(
+                err::INVALID_GAP,
+                format!("Gap = {other:?} is not valid"),
+            )),
         }
     }
 
@@ -973,10 +986,16 @@ impl CaGroups {
         // Validate the markers once (per-axis resolution below cannot fail then).
         match dec {
             McLreal::Value(v) if !(v.is_finite() && v >= 1.0) => {
-                return Err(rej(err::INVALID_DYNAMICS, format!("{fb}.Deceleration = {v}")))
+                return Err(rej(
+                    err::INVALID_DYNAMICS,
+                    format!("{fb}.Deceleration = {v}"),
+                ))
             }
             McLreal::Ignore => {
-                return Err(rej(err::INVALID_DYNAMICS, format!("{fb}.Deceleration = IGNORE")))
+                return Err(rej(
+                    err::INVALID_DYNAMICS,
+                    format!("{fb}.Deceleration = IGNORE"),
+                ))
             }
             _ => {}
         }
@@ -1059,7 +1078,10 @@ impl CaGroups {
         if ident.0 == 0 || gr.members.iter().any(|m| m.ident == ident.0) {
             return Err(rej(
                 err::INVALID_IDENT_IN_GROUP,
-                format!("MC_AddAxisToGroup: IdentInGroup {} is 0 or already used", ident.0),
+                format!(
+                    "MC_AddAxisToGroup: IdentInGroup {} is 0 or already used",
+                    ident.0
+                ),
             ));
         }
         if let Some(&other) = self.axis_group.get(&ax) {
@@ -1396,9 +1418,7 @@ fn frame_sign(s: State1, job: &Job, retreat: f64) -> f64 {
         -1.0
     } else if s.acc > 0.0 {
         1.0
-    } else if s.acc < 0.0 {
-        -1.0
-    } else if retreat > ESTABLISH_MIN {
+    } else if s.acc < 0.0 || retreat > ESTABLISH_MIN {
         -1.0
     } else {
         match job {
@@ -1467,7 +1487,13 @@ impl CaGroup {
                     v: req.dy.v * self.ovr_actual,
                     ..req.dy
                 },
-                Some(if establishing { s.pos - retreat } else { target } * sg),
+                Some(
+                    if establishing {
+                        s.pos - retreat
+                    } else {
+                        target
+                    } * sg,
+                ),
             ),
             Job::Brake { req } => (req.dy, None),
             Job::Idle if establishing => (
@@ -1590,7 +1616,7 @@ impl CaGroup {
             m.d_ca = m.d_ca.max(dcmd);
             m.j_ca = m.j_ca.max(dy.j);
         }
-        let fs = if sg > 0.0 { kin(s) } else { kin(s).neg() };
+        let fs = if sg > 0.0 { kin(s) } else { kin(s).mirror() };
         let out = planner::step(&StepIn {
             s: fs,
             vmax: dy.v.min(ad.max_v),
@@ -1603,7 +1629,7 @@ impl CaGroup {
             c4,
             t: dt,
         });
-        let e = if sg > 0.0 { out.s } else { out.s.neg() };
+        let e = if sg > 0.0 { out.s } else { out.s.mirror() };
         m.ca_limited = out.ca_limited;
         m.d_b = out.d_b;
         m.j_b = out.j_b;

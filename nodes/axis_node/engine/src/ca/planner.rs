@@ -21,7 +21,7 @@ impl Kin {
         Kin { x, v: 0.0, a: 0.0 }
     }
     /// Mirror image (`x → −x`).
-    pub fn neg(self) -> Self {
+    pub fn mirror(self) -> Self {
         Kin {
             x: -self.x,
             v: -self.v,
@@ -75,7 +75,10 @@ fn brake_phases(v: f64, a: f64, d: f64, jm: f64) -> ([(f64, f64); 4], usize) {
             n += 2;
         } else {
             ph[n] = (-jm, ((d - d0) / jm).max(0.0));
-            ph[n + 1] = (0.0, ((v - (2.0 * d * d - d0 * d0) / (2.0 * jm)) / d).max(0.0));
+            ph[n + 1] = (
+                0.0,
+                ((v - (2.0 * d * d - d0 * d0) / (2.0 * jm)) / d).max(0.0),
+            );
             ph[n + 2] = (jm, d / jm);
             n += 3;
         }
@@ -100,7 +103,7 @@ pub fn stop_point(s: Kin, d: f64, jm: f64) -> f64 {
 /// `StopPoint` of a backward-moving state (mirror image).
 #[inline]
 pub fn stop_point_back(s: Kin, d: f64, jm: f64) -> f64 {
-    -stop_point(s.neg(), d, jm)
+    -stop_point(s.mirror(), d, jm)
 }
 
 /// Advances exactly along the braking profile P for `t` (§8.5 step 7): phase switches inside
@@ -243,14 +246,7 @@ fn search_from(s: Kin, t: f64, jl: f64, hi: f64, upper: impl Fn(Kin) -> bool) ->
 
 /// Largest j in `[lo, hi]` above the L threshold that satisfies `upper` (monotone).
 #[inline]
-fn search(
-    s: Kin,
-    t: f64,
-    lo: f64,
-    hi: f64,
-    jp: f64,
-    upper: impl Fn(Kin) -> bool,
-) -> Option<f64> {
+fn search(s: Kin, t: f64, lo: f64, hi: f64, jp: f64, upper: impl Fn(Kin) -> bool) -> Option<f64> {
     let jl = lower_threshold(s, t, lo, hi, jp)?;
     search_from(s, t, jl, hi, upper)
 }
@@ -328,7 +324,8 @@ pub fn step(p: &StepIn) -> StepOut {
             return out(s, false);
         }
         if target - s.x <= START_THRESHOLD {
-            let ok = p.c4.is_none_or(|b| target <= b.pos_bound && target <= b.stop_bound);
+            let ok =
+                p.c4.is_none_or(|b| target <= b.pos_bound && target <= b.stop_bound);
             return if ok {
                 out(Kin::rest(target), false)
             } else {
@@ -437,7 +434,10 @@ mod tests {
             a: 0.0,
         };
         let d = stop_point(s, 20000.0, 200000.0);
-        assert!((d - 100.0 * (100.0f64 / 200000.0).sqrt()).abs() < 1e-9, "{d}");
+        assert!(
+            (d - 100.0 * (100.0f64 / 200000.0).sqrt()).abs() < 1e-9,
+            "{d}"
+        );
     }
 
     #[test]
@@ -461,6 +461,9 @@ mod tests {
             s = o.s;
             n += 1;
         }
-        assert!((1199..=1201).contains(&n), "arrived after {n} cycles at {s:?}");
+        assert!(
+            (1199..=1201).contains(&n),
+            "arrived after {n} cycles at {s:?}"
+        );
     }
 }

@@ -241,7 +241,11 @@ impl CaGroupConfig {
                 self.default_deceleration,
                 self.default_deceleration >= 1.0,
             ),
-            ("default_jerk", self.default_jerk, self.default_jerk >= 100.0),
+            (
+                "default_jerk",
+                self.default_jerk,
+                self.default_jerk >= 100.0,
+            ),
             (
                 "override_ramp_time",
                 self.override_ramp_time,

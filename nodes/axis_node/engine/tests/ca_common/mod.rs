@@ -5,7 +5,9 @@
 use axis_engine::ca::bench::{ca_axis_config, ca_engine};
 use axis_engine::ca::*;
 use axis_engine::*;
-use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, ExecuteOutputs, Rejection, Tick};
+use motion_core::{
+    CmdId, CommandEvent, CommandState, Engine, ErrorId, ExecuteOutputs, Rejection, Tick,
+};
 
 pub const T: f64 = 0.001;
 pub const G: &str = "g";
@@ -91,7 +93,13 @@ impl CaRig {
 
     pub fn step(&mut self) {
         self.events.clear();
-        self.e.step(Tick { index: self.tick, dt: T }, &mut self.events);
+        self.e.step(
+            Tick {
+                index: self.tick,
+                dt: T,
+            },
+            &mut self.events,
+        );
         self.tick += 1;
         if self.check_gaps {
             let g = self.group();
@@ -121,11 +129,20 @@ impl CaRig {
     }
 
     pub fn group(&self) -> CaGroupStatus {
-        self.e.snapshot().ca_groups.into_iter().find(|g| g.name == G).unwrap()
+        self.e
+            .snapshot()
+            .ca_groups
+            .into_iter()
+            .find(|g| g.name == G)
+            .unwrap()
     }
 
     pub fn axis(&self, name: &str) -> CaAxisStatus {
-        self.group().axes.into_iter().find(|a| a.name == name).unwrap()
+        self.group()
+            .axes
+            .into_iter()
+            .find(|a| a.name == name)
+            .unwrap()
     }
 
     pub fn pos(&self, name: &str) -> f64 {
