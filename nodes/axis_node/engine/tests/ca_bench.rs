@@ -33,3 +33,61 @@ fn ns_per_axis_per_step() {
         println!("{n} axes: {ns:.1} ns per axis per step ({moving} moving)");
     }
 }
+
+/// A dense ring (150 mm spacing; a Standard follower at 1000 mm/s needs ≈ 200 mm): every
+/// follower is CA-limited, so the planner's bisections run.
+#[test]
+#[ignore]
+fn ns_per_axis_per_step_dense_train() {
+    use axis_engine::ca::bench::ca_engine;
+    use axis_engine::ca::*;
+    use axis_engine::AxisCommand;
+    let n = 1000;
+    let movers: Vec<(String, f64)> = (0..n)
+        .map(|i| (format!("m{i}"), (n - 1 - i) as f64 * 150.0))
+        .collect();
+    let cfg = CaGroupConfig {
+        rail_length: n as f64 * 150.0 + 1000.0,
+        ..CaGroupConfig::default()
+    };
+    let mut e = ca_engine(&movers, "g", cfg, 0.001).unwrap();
+    for (name, _) in &movers {
+        e.command(AxisCommand::Ca(CaCommand::MoveRelative(MoveRelativeCa {
+            axis: name.clone(),
+            distance: McLreal::Value(1e9),
+            velocity: McLreal::Value(1000.0),
+            ..Default::default()
+        })))
+        .unwrap();
+    }
+    let mut ev = Vec::new();
+    for k in 0..1000 {
+        ev.clear();
+        e.step(
+            Tick {
+                index: 2 + k,
+                dt: 0.001,
+            },
+            &mut ev,
+        );
+    }
+    let cycles = 200u64;
+    let t0 = Instant::now();
+    for k in 0..cycles {
+        ev.clear();
+        e.step(
+            Tick {
+                index: 10_000 + k,
+                dt: 0.001,
+            },
+            &mut ev,
+        );
+    }
+    let ns = t0.elapsed().as_nanos() as f64 / (cycles as f64 * n as f64);
+    let limited = e.snapshot().ca_groups[0]
+        .axes
+        .iter()
+        .filter(|a| a.ca_limited)
+        .count();
+    println!("dense {n} axes: {ns:.1} ns per axis per step ({limited} CA-limited)");
+}

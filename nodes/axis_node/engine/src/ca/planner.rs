@@ -100,6 +100,21 @@ pub fn stop_point(s: Kin, d: f64, jm: f64) -> f64 {
     k.x
 }
 
+/// `StopPoint(s; d, jm) ≤ bound`, with a cheap sufficient test first: the stop distance is
+/// at most `v_peak · (a⁺/J + v_peak/D + D/J)` (AM-GM bounds the triangular case) when the
+/// deceleration does not exceed `d` (else the exact stop point decides). No alloc.
+#[inline]
+pub fn stop_point_le(s: Kin, d: f64, jm: f64, bound: f64) -> bool {
+    if s.a >= -d {
+        let ap = s.a.max(0.0);
+        let v_peak = s.v.max(0.0) + ap * ap / (2.0 * jm);
+        if s.x + v_peak * (ap / jm + v_peak / d + d / jm) <= bound {
+            return true;
+        }
+    }
+    stop_point(s, d, jm) <= bound
+}
+
 /// `StopPoint` of a backward-moving state (mirror image).
 #[inline]
 pub fn stop_point_back(s: Kin, d: f64, jm: f64) -> f64 {
@@ -185,7 +200,7 @@ const ITER: usize = 32;
 
 #[inline]
 fn c4_ok(b: &Bound, s: Kin, db: f64, jb: f64) -> bool {
-    s.x <= b.pos_bound && stop_point(s, db, jb) <= b.stop_bound
+    s.x <= b.pos_bound && stop_point_le(s, db, jb, b.stop_bound)
 }
 
 /// L(J′): no velocity sign change inside the cycle, end state not over-braked.
@@ -347,7 +362,7 @@ pub fn step(p: &StepIn) -> StepOut {
         } else {
             p.jmax
         };
-        stop_point(e, p.dmax.max(-e.a), j_next) <= target
+        stop_point_le(e, p.dmax.max(-e.a), j_next, target)
     };
     let c2 = |e: Kin| e.v + e.a * e.a.abs() / (2.0 * jn) <= p.vmax * (1.0 + 1e-12);
     let j_nom = p.target.and_then(|target| {
