@@ -2406,6 +2406,9 @@ impl Engine for AxisEngine {
 
     fn cancel(&mut self, id: CmdId) -> Result<(), Rejection> {
         // A cancelled goal halts the axis with the command's own dynamics (MC_Halt semantics).
+        if self.fbs.get(id).is_none() && self.ca.owns(id) {
+            return self.ca.cancel(id, &self.axes, &mut self.fbs);
+        }
         let Some(inst) = self.fbs.get(id).copied() else {
             return Err(reject(
                 ErrorId::UNKNOWN_OBJECT,

@@ -482,6 +482,55 @@ impl CaGroups {
             .collect()
     }
 
+    /// True when `id` is a CA block instance.
+    pub(crate) fn owns(&self, id: CmdId) -> bool {
+        self.instances.contains_key(&id)
+    }
+
+    /// A cancelled goal (§9.3): MC_HaltCA on that axis with the command's deceleration and
+    /// jerk; the command ends CommandAborted. A buffered command is just aborted; group
+    /// blocks are left alone (their own semantics apply).
+    pub(crate) fn cancel(
+        &mut self,
+        id: CmdId,
+        axes: &[Axis],
+        fbs: &mut Handshake,
+    ) -> Result<(), Rejection> {
+        for g in 0..self.groups.len() {
+            for k in 0..self.groups[g].n() {
+                let m = &mut self.groups[g].members[k];
+                if m.pending.is_some_and(|p| p.owner == Some(id)) {
+                    m.pending = None;
+                    self.set_state(fbs, id, CommandState::Aborted);
+                    return Ok(());
+                }
+                if m.job.owner() == Some(id) {
+                    let Some(req) = m.job.req().copied() else {
+                        return Ok(());
+                    };
+                    let moving = axes[m.axis].moving();
+                    if req.mode != GapControlMode::None {
+                        m.last_gap = req.gap;
+                    }
+                    m.job = if moving {
+                        Job::Brake {
+                            req: Request {
+                                owner: None,
+                                goal: Goal::Brake,
+                                ..req
+                            },
+                        }
+                    } else {
+                        Job::Idle
+                    };
+                    self.set_state(fbs, id, CommandState::Aborted);
+                    return Ok(());
+                }
+            }
+        }
+        Ok(())
+    }
+
     // ------------------------------------------------------------------ instances
 
     fn admit(&mut self, fbs: &mut Handshake, kind: CaFbKind, state: CommandState) -> CmdId {
