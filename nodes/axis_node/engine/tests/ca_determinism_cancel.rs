@@ -8,7 +8,11 @@ use motion_core::{CommandState, Engine};
 
 fn run() -> Vec<String> {
     let names: Vec<String> = (1..=6).map(|i| format!("M{i}")).collect();
-    let m: Vec<(&str, f64)> = names.iter().enumerate().map(|(i, n)| (n.as_str(), 2500.0 - 400.0 * i as f64)).collect();
+    let m: Vec<(&str, f64)> = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (n.as_str(), 2500.0 - 400.0 * i as f64))
+        .collect();
     let mut r = CaRig::new(&m, ring(3000.0));
     let mut out = Vec::new();
     for (i, n) in names.iter().enumerate() {
@@ -16,7 +20,11 @@ fn run() -> Vec<String> {
     }
     for k in 0..3000 {
         if k == 700 {
-            r.ok(CaCommand::Halt(HaltCa { axis: "M1".into(), deceleration: McLreal::Maximum, ..Default::default() }));
+            r.ok(CaCommand::Halt(HaltCa {
+                axis: "M1".into(),
+                deceleration: McLreal::Maximum,
+                ..Default::default()
+            }));
         }
         if k == 1500 {
             r.mv_rel("M1", 2000.0, 1500.0);
@@ -48,6 +56,10 @@ fn cancel_halts_with_the_command_dynamics() {
     assert_eq!(r.cmd_state(id), CommandState::Aborted);
     r.until(1000, |r| r.group().all_axes_standing);
     // From 1000 mm/s with D 10000, J 100000 (axis defaults): v²/(2D) + v·D/(2J) = 100 mm.
-    assert!((r.pos("A") - x0 - 100.0).abs() < 2.0, "braked over ≈ 100 mm: {}", r.pos("A") - x0);
+    assert!(
+        (r.pos("A") - x0 - 100.0).abs() < 2.0,
+        "braked over ≈ 100 mm: {}",
+        r.pos("A") - x0
+    );
     assert_eq!(r.state(), GroupState::GroupStandby);
 }

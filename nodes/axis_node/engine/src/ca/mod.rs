@@ -7,6 +7,7 @@
 //! [`modulo`] (§5.2.3).
 
 pub mod bench;
+pub mod geometry;
 pub mod modulo;
 pub mod planner;
 pub mod types;
@@ -132,6 +133,10 @@ struct Member {
     updated: bool,
     /// Establishing (§1.7): how far this axis has to retreat to open its gap \[mm\].
     retreat: f64,
+    /// Active track (0 = absolute).
+    track: u32,
+    /// Registered mover template (0 = none).
+    compensation: u32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -475,6 +480,8 @@ impl CaGroups {
                             ca_limited: m.ca_limited,
                             gap_violation: m.gap < target - EPS,
                             min_gap_margin: m.min_margin,
+                            track_id: m.track,
+                            compensation_id: m.compensation,
                         }
                     })
                     .collect(),
@@ -793,6 +800,23 @@ impl CaGroups {
                     }
                 };
                 let cfg = &self.groups[g].cfg;
+                // An active track: Position is a track coordinate (§5.6).
+                let p = match cfg.geometry.track(self.groups[g].members[k].track) {
+                    None => p,
+                    Some(t) => {
+                        let origin = cfg.geometry.part(t.parts[0]).map_or(0.0, |q| q.start);
+                        if c.direction == CaDirection::NonModulo {
+                            p + origin
+                        } else if (0.0..=cfg.rail_length).contains(&p) {
+                            (p + origin).rem_euclid(cfg.rail_length)
+                        } else {
+                            return Err(rej(
+                                err::INVALID_TARGET_POSITION,
+                                format!("modulo track target {p} outside [0, {}]", cfg.rail_length),
+                            ));
+                        }
+                    }
+                };
                 let x0 = axes[self.groups[g].members[k].axis].set.pos;
                 let target = modulo::target(
                     x0,
@@ -878,6 +902,117 @@ impl CaGroups {
                         ),
                     )),
                 }
+            }
+            CaCommand::ActivateTrack { axis, track_id } => {
+                let (g, k) = self.member_of(&axis, index)?;
+                let gr = &self.groups[g];
+                if track_id != 0 {
+                    let geo = &gr.cfg.geometry;
+                    let t = geo.track(track_id).ok_or_else(|| {
+                        rej(
+                            err::TRACK_ERROR,
+                            format!("MC_ActivateTrack: unknown track {track_id:#x}"),
+                        )
+                    })?;
+                    let x = axes[gr.members[k].axis].set.pos;
+                    let on = geo
+                        .part_at(x, gr.cfg.rail_length, gr.cfg.rail_is_ring)
+                        .is_some_and(|p| t.parts.contains(&p.oid));
+                    if !on {
+                        return Err(rej(
+                            err::TRACK_ERROR,
+                            format!("MC_ActivateTrack: axis '{axis}' is not on a part of track {track_id:#x}"),
+                        ));
+                    }
+                }
+                self.groups[g].members[k].track = track_id;
+                Ok(self.admin_reply(fbs))
+            }
+            CaCommand::ReadTrackPositions { axis } => {
+                let (g, k) = self.member_of(&axis, index)?;
+                let gr = &self.groups[g];
+                let (l, ring) = (gr.cfg.rail_length, gr.cfg.rail_is_ring);
+                let geo = &gr.cfg.geometry;
+                let x = axes[gr.members[k].axis].set.pos;
+                let wrap = |d: f64| if ring { d.rem_euclid(l) } else { d };
+                let v = match geo.track(gr.members[k].track) {
+                    None => CaValue::TrackPositions {
+                        valid: true,
+                        track_position: x,
+                        track_id: 0,
+                        part_position: x,
+                        part_id: 0,
+                    },
+                    Some(t) => {
+                        let origin = geo.part(t.parts[0]).map_or(0.0, |q| q.start);
+                        let part = geo.part_at(x, l, ring);
+                        CaValue::TrackPositions {
+                            valid: true,
+                            track_position: wrap(x - origin),
+                            track_id: t.oid,
+                            part_position: part.map_or(f64::NAN, |p| wrap(x - p.start)),
+                            part_id: part.map_or(0, |p| p.oid),
+                        }
+                    }
+                };
+                Ok(Self::value_reply(fbs, v))
+            }
+            CaCommand::RegisterCompensation {
+                axis,
+                compensation_type,
+                compensation_id,
+            } => {
+                let (g, k) = self.member_of(&axis, index)?;
+                if compensation_type != 1 {
+                    return Err(rej(
+                        err::INVALID_MODE,
+                        format!("MC_RegisterCompensation: CompensationType = {compensation_type} is not geo (1)"),
+                    ));
+                }
+                if compensation_id != 0 {
+                    self.groups[g].cfg.geometry.y_shift(compensation_id)?;
+                }
+                self.groups[g].members[k].compensation = compensation_id;
+                Ok(self.admin_reply(fbs))
+            }
+            CaCommand::TransformPosition {
+                group,
+                origin_oid,
+                destination_oid,
+                origin_position,
+            } => {
+                let g = self.group_index(&group)?;
+                let x = match origin_position {
+                    McLreal::Value(x) if x.is_finite() => x,
+                    other => {
+                        return Err(rej(
+                            err::INVALID_TARGET_POSITION,
+                            format!("MC_TransformPosition.OriginPosition = {other:?}"),
+                        ))
+                    }
+                };
+                let cfg = &self.groups[g].cfg;
+                let y = cfg
+                    .geometry
+                    .transform(cfg.rail_length, origin_oid, destination_oid, x)?;
+                Ok(Self::value_reply(fbs, CaValue::Position(y)))
+            }
+            CaCommand::SetTemplateActive { group, oid, active } => {
+                let g = self.group_index(&group)?;
+                let t = self.groups[g]
+                    .cfg
+                    .geometry
+                    .mover_templates
+                    .iter_mut()
+                    .find(|t| t.oid == oid)
+                    .ok_or_else(|| {
+                        rej(
+                            err::COMPENSATION_ERROR,
+                            format!("unknown mover template {oid:#x}"),
+                        )
+                    })?;
+                t.active = active;
+                Ok(self.admin_reply(fbs))
             }
             CaCommand::ResetDiagnostics { group } => {
                 let g = self.group_index(&group)?;
@@ -1186,6 +1321,8 @@ impl CaGroups {
                 min_margin: f64::INFINITY,
                 updated: false,
                 retreat: 0.0,
+                track: 0,
+                compensation: 0,
             },
         );
         gr.init_all_gaps(axes);

@@ -199,6 +199,8 @@ pub struct CaGroupConfig {
     pub default_jerk: f64,
     /// Override ramp time \[s\] (≥ 0, §1.11).
     pub override_ramp_time: f64,
+    /// Rail geometry, mover templates, parts and tracks (§3.4).
+    pub geometry: super::geometry::CaGeometry,
 }
 
 impl Default for CaGroupConfig {
@@ -216,6 +218,7 @@ impl Default for CaGroupConfig {
             default_deceleration: 5000.0,
             default_jerk: 50000.0,
             override_ramp_time: 0.1,
+            geometry: super::geometry::CaGeometry::default(),
         }
     }
 }
@@ -260,6 +263,7 @@ impl CaGroupConfig {
                 ));
             }
         }
+        self.geometry.validate(group, self.rail_length)?;
         if self.rail_is_ring && self.default_gap >= self.rail_length {
             return Err(Rejection::new(
                 ErrorId::VALUE_OUT_OF_RANGE,
@@ -433,6 +437,47 @@ pub enum CaCommand {
         /// Gap.
         gap: McLreal,
     },
+    /// MC_ActivateTrack (§5.6): later commands use track coordinates; 0 = absolute.
+    ActivateTrack {
+        /// Axis name.
+        axis: String,
+        /// TrackId (OTCID).
+        track_id: u32,
+    },
+    /// MC_ReadTrackPositions (§5.7; reply [`CaValue::TrackPositions`]).
+    ReadTrackPositions {
+        /// Axis name.
+        axis: String,
+    },
+    /// MC_RegisterCompensation (§5.8): CompensationType 1 = geo; id 0 unregisters.
+    RegisterCompensation {
+        /// Axis name.
+        axis: String,
+        /// MC_COMPENSATION_TYPE (0 invalid, 1 geo).
+        compensation_type: u32,
+        /// CompensationId (mover template OID).
+        compensation_id: u32,
+    },
+    /// MC_TransformPosition (§5.9; reply [`CaValue::Position`]).
+    TransformPosition {
+        /// AxesGroup whose geometry is used.
+        group: String,
+        /// OriginOid (0 = motor path).
+        origin_oid: u32,
+        /// DestinationOid (0 = motor path).
+        destination_oid: u32,
+        /// OriginPosition \[mm\] (mandatory).
+        origin_position: McLreal,
+    },
+    /// Activates/deactivates a mover template at run time (§1.13).
+    SetTemplateActive {
+        /// AxesGroup.
+        group: String,
+        /// Template OID.
+        oid: u32,
+        /// Active.
+        active: bool,
+    },
     /// Resets `min_gap_margin` of every axis of the group (§8.7).
     ResetDiagnostics {
         /// AxesGroup.
@@ -490,6 +535,21 @@ pub enum CaValue {
     Status(GroupReadStatus),
     /// MC_GroupReadError: GroupErrorId.
     GroupErrorId(u32),
+    /// MC_TransformPosition: DestinationPosition.
+    Position(f64),
+    /// MC_ReadTrackPositions outputs.
+    TrackPositions {
+        /// Valid.
+        valid: bool,
+        /// TrackPosition \[mm\].
+        track_position: f64,
+        /// TrackId (0 = absolute).
+        track_id: u32,
+        /// PartPosition \[mm\].
+        part_position: f64,
+        /// PartId (0 = none).
+        part_id: u32,
+    },
     /// MC_GroupSetOverride: Enabled, ActualVelFactor.
     Override {
         /// Value accepted.
@@ -545,6 +605,10 @@ pub struct CaAxisStatus {
     pub gap_violation: bool,
     /// Minimum of `gap_actual − gap_target` since enable / reset_diagnostics (+inf: none).
     pub min_gap_margin: f64,
+    /// Active track (0 = absolute reference).
+    pub track_id: u32,
+    /// Registered compensation (mover template OID, 0 = none).
+    pub compensation_id: u32,
 }
 
 /// One CA group as published (CaGroupState.msg, §9.5).
