@@ -85,8 +85,10 @@ impl CaGeometry {
     /// Startup validation against the rail length.
     pub fn validate(&self, group: &str, rail_length: f64) -> Result<(), Rejection> {
         let c = self.curve_arc_length;
-        if !(c.is_finite() && c >= 0.0 && rail_length - 2.0 * c >= 0.0)
-            || !self.rail_offset.is_finite()
+        if !(c.is_finite()
+            && c >= 0.0
+            && rail_length - 2.0 * c >= 0.0
+            && self.rail_offset.is_finite())
         {
             return Err(bad(
                 group,
