@@ -178,6 +178,11 @@ impl AxisEngine {
         })
     }
 
+    /// The collision-avoidance groups (outputs of CA instances, e.g. MC_GearInPosCA's InSync).
+    pub fn ca_groups(&self) -> &crate::ca::CaGroups {
+        &self.ca
+    }
+
     /// Adds a collision-avoidance group (startup configuration, collision_avoidance.md §3.1).
     pub fn add_ca_group(
         &mut self,

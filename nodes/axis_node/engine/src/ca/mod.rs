@@ -72,6 +72,7 @@ enum Goal {
     Absolute(f64),
     Relative(f64),
     Brake,
+    Gear(Gear),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,13 +98,87 @@ enum Job {
     Brake {
         req: Request,
     },
+    /// MC_GearInPosCA coupling.
+    Gear {
+        req: Request,
+        gear: Gear,
+    },
+}
+
+/// State of an MC_GearInPosCA coupling (§5.5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Gear {
+    master: usize,
+    ratio: f64,
+    msp: f64,
+    ssp: f64,
+    strategy: SyncStrategy,
+    started: bool,
+    in_sync: bool,
+    failed: bool,
+    cam: Option<Cam>,
+    /// Coupled target at the end of the current cycle \[mm\].
+    target: f64,
+}
+
+/// Quintic cam `s(m)` over the master position (§5.5.3 Late/Slow): from the slave's state at
+/// `m0` to (MasterSyncPosition, SlaveSyncPosition, ratio, 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Cam {
+    m0: f64,
+    h: f64,
+    c: [f64; 6],
+}
+
+impl Cam {
+    fn new(m0: f64, s: State1, mv: f64, msp: f64, ssp: f64, r: f64) -> Option<Cam> {
+        let h = msp - m0;
+        if !(h > 1e-9 && mv > 0.0) {
+            return None;
+        }
+        let (c0, c1, c2) = (s.pos, s.vel / mv, s.acc / (mv * mv) / 2.0);
+        let d0 = ssp - (c0 + c1 * h + c2 * h * h);
+        let d1 = r - (c1 + 2.0 * c2 * h);
+        let d2 = -2.0 * c2;
+        let c3 = (20.0 * d0 - 8.0 * d1 * h + d2 * h * h) / (2.0 * h.powi(3));
+        let c4 = (-30.0 * d0 + 14.0 * d1 * h - 2.0 * d2 * h * h) / (2.0 * h.powi(4));
+        let c5 = (12.0 * d0 - 6.0 * d1 * h + d2 * h * h) / (2.0 * h.powi(5));
+        Some(Cam {
+            m0,
+            h,
+            c: [c0, c1, c2, c3, c4, c5],
+        })
+    }
+
+    /// s, ds/dm, d²s/dm² at master position `m`.
+    fn eval(&self, m: f64) -> (f64, f64, f64) {
+        let u = (m - self.m0).clamp(0.0, self.h);
+        let c = &self.c;
+        let p = c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * (c[4] + u * c[5]))));
+        let d1 = c[1] + u * (2.0 * c[2] + u * (3.0 * c[3] + u * (4.0 * c[4] + u * 5.0 * c[5])));
+        let d2 = 2.0 * c[2] + u * (6.0 * c[3] + u * (12.0 * c[4] + u * 20.0 * c[5]));
+        (p, d1, d2)
+    }
+
+    /// Within the sync dynamics at a constant master velocity `mv` (33 samples).
+    fn feasible(&self, mv: f64, dy: &Dyn) -> bool {
+        let c = &self.c;
+        let tol = 1.0 + 1e-9;
+        (0..=32).all(|i| {
+            let u = self.h * i as f64 / 32.0;
+            let (_, d1, d2) = self.eval(self.m0 + u);
+            let d3 = 6.0 * c[3] + u * (24.0 * c[4] + u * 60.0 * c[5]);
+            let (v, a, j) = (d1 * mv, d2 * mv * mv, d3 * mv * mv * mv);
+            v.abs() <= dy.v * tol && a <= dy.a * tol && -a <= dy.d * tol && j.abs() <= dy.j * tol
+        })
+    }
 }
 
 impl Job {
     fn req(&self) -> Option<&Request> {
         match self {
             Job::Idle => None,
-            Job::Position { req, .. } | Job::Brake { req } => Some(req),
+            Job::Position { req, .. } | Job::Brake { req } | Job::Gear { req, .. } => Some(req),
         }
     }
     fn owner(&self) -> Option<CmdId> {
@@ -346,7 +421,7 @@ impl CaGroup {
             let applies = match self.members[k].job {
                 Job::Idle => standby,
                 Job::Position { req, .. } => active && req.mode != GapControlMode::None,
-                Job::Brake { .. } => false,
+                Job::Brake { .. } | Job::Gear { .. } => false,
             };
             self.members[k].retreat = if applies { d } else { 0.0 };
             delta = d;
@@ -487,6 +562,20 @@ impl CaGroups {
                     .collect(),
             })
             .collect()
+    }
+
+    /// StartSync / InSync of a running MC_GearInPosCA instance (None: not a running coupling).
+    pub fn gear_outputs(&self, id: CmdId) -> Option<GearOutputs> {
+        self.groups
+            .iter()
+            .flat_map(|g| g.members.iter())
+            .find_map(|m| match m.job {
+                Job::Gear { req, gear } if req.owner == Some(id) => Some(GearOutputs {
+                    start_sync: gear.started && !gear.in_sync,
+                    in_sync: gear.in_sync,
+                }),
+                _ => None,
+            })
     }
 
     /// True when `id` is a CA block instance.
@@ -886,12 +975,80 @@ impl CaGroups {
                 };
                 self.start(g, k, req, CaBufferMode::Aborting, CaFbKind::Halt, axes, fbs)
             }
+            CaCommand::GearInPos(c) => {
+                let fb = "MC_GearInPosCA";
+                let (g, k) = self.member_of(&c.slave, index)?;
+                self.motion_admissible(g, k, axes, fb)?;
+                let master = *index.get(&c.master).ok_or_else(|| {
+                    rej(
+                        err::AXIS_NOT_IN_GROUP,
+                        format!("{fb}: unknown master '{}'", c.master),
+                    )
+                })?;
+                if master == self.groups[g].members[k].axis {
+                    return Err(rej(
+                        err::PARAMETER_NOT_CORRECT,
+                        format!("{fb}: Master = Slave"),
+                    ));
+                }
+                let pos = |x: McLreal, what: &str| match x {
+                    McLreal::Value(v) if v.is_finite() => Ok(v),
+                    other => Err(rej(
+                        err::INVALID_TARGET_POSITION,
+                        format!("{fb}.{what} = {other:?}"),
+                    )),
+                };
+                let msp = pos(c.master_sync_position, "MasterSyncPosition")?;
+                let ssp = pos(c.slave_sync_position, "SlaveSyncPosition")?;
+                let num = match c.ratio_numerator {
+                    McLreal::Unset | McLreal::Default => 1.0,
+                    McLreal::Value(v) if v.is_finite() => v,
+                    other => {
+                        return Err(rej(
+                            err::PARAMETER_NOT_CORRECT,
+                            format!("{fb}.RatioNumerator = {other:?}"),
+                        ))
+                    }
+                };
+                if c.ratio_denumerator == 0 {
+                    return Err(rej(
+                        err::PARAMETER_NOT_CORRECT,
+                        format!("{fb}.RatioDenumerator = 0"),
+                    ));
+                }
+                let ad = self.groups[g].members[k].dynamics;
+                let dy = resolve_move(&ad, c.velocity, c.acceleration, c.deceleration, c.jerk)?;
+                let gap = self.resolve_gap(g, c.gap)?;
+                let gear = Gear {
+                    master,
+                    ratio: num / c.ratio_denumerator as f64,
+                    msp,
+                    ssp,
+                    strategy: c.sync_strategy,
+                    started: false,
+                    in_sync: false,
+                    failed: false,
+                    cam: None,
+                    target: axes[self.groups[g].members[k].axis].set.pos,
+                };
+                let req = Request {
+                    owner: None,
+                    goal: Goal::Gear(gear),
+                    dy,
+                    gap,
+                    mode: c.gap_control_mode,
+                    continuous_update: c.continuous_update,
+                };
+                self.start(g, k, req, c.buffer_mode, CaFbKind::GearInPos, axes, fbs)
+            }
             CaCommand::UpdateGap { axis, gap } => {
                 let (g, k) = self.member_of(&axis, index)?;
                 let gap = self.resolve_gap(g, gap)?;
                 let m = &mut self.groups[g].members[k];
                 match &mut m.job {
-                    Job::Position { req, .. } | Job::Brake { req } if req.continuous_update => {
+                    Job::Position { req, .. } | Job::Brake { req } | Job::Gear { req, .. }
+                        if req.continuous_update =>
+                    {
                         req.gap = gap;
                         Ok(Self::value_reply(fbs, CaValue::GroupErrorId(0)))
                     }
@@ -1516,6 +1673,38 @@ impl CaGroups {
             let ax = self.groups[g].members[k].axis;
             let s = axes[ax].set;
             let at_rest = s.vel == 0.0 && s.acc == 0.0;
+            if let Job::Gear { req, gear } = self.groups[g].members[k].job {
+                let m = &mut self.groups[g].members[k];
+                if gear.failed {
+                    // Late/Slow: no feasible sync profile (§5.5.3).
+                    m.job = if at_rest {
+                        Job::Idle
+                    } else {
+                        Job::Brake {
+                            req: Request {
+                                owner: None,
+                                goal: Goal::Brake,
+                                ..req
+                            },
+                        }
+                    };
+                    if let Some(id) = req.owner {
+                        self.set_state(fbs, id, CommandState::Error(err::SLAVE_CANNOT_SYNC));
+                    }
+                } else if gear.in_sync {
+                    // A buffered command starts when the coupling first becomes InSync.
+                    if let Some(p) = m.pending.take() {
+                        m.job = activate(p, s.pos);
+                        if let Some(id) = req.owner {
+                            self.set_state(fbs, id, CommandState::Aborted);
+                        }
+                        if let Some(id) = p.owner {
+                            self.set_state(fbs, id, CommandState::Active);
+                        }
+                    }
+                }
+                continue;
+            }
             if !at_rest {
                 continue;
             }
@@ -1532,7 +1721,7 @@ impl CaGroups {
                     }
                 }
                 Job::Brake { .. } => true,
-                Job::Idle => false,
+                Job::Idle | Job::Gear { .. } => false,
             };
             if finished {
                 let m = &mut self.groups[g].members[k];
@@ -1609,6 +1798,7 @@ fn frame_sign(s: State1, job: &Job, retreat: f64) -> f64 {
     } else {
         match job {
             Job::Position { target, .. } if *target < s.pos => -1.0,
+            Job::Gear { gear, .. } if gear.target < s.pos => -1.0,
             _ => 1.0,
         }
     }
@@ -1635,6 +1825,7 @@ fn activate(req: Request, x: f64) -> Job {
         Goal::Absolute(t) => Job::Position { req, target: t },
         Goal::Relative(d) => Job::Position { req, target: x + d },
         Goal::Brake => Job::Brake { req },
+        Goal::Gear(gear) => Job::Gear { req, gear },
     }
 }
 
@@ -1652,63 +1843,19 @@ impl CaGroup {
         }
     }
 
-    /// One planner step of member `k` (§8.5, §8.6).
-    fn step_member(&mut self, k: usize, dt: f64, axes: &mut [Axis]) {
-        let ax = self.members[k].axis;
-        // CA owns the set values of its members (drops a single-axis error-reaction job).
-        axes[ax].job = None;
-        let s = axes[ax].set;
-        let job = self.members[k].job;
-        let ad = self.members[k].dynamics;
-        let own_mode = self.mode_of(k);
-        let retreat = self.members[k].retreat;
-        let establishing = retreat > ESTABLISH_MIN;
-        let sg = frame_sign(s, &job, retreat);
-        let cfg = &self.cfg;
-        // Command limits (idle: brake with the axis defaults if moving; establishing: retreat
-        // by `retreat`, with the group defaults when idle, §1.7).
-        let (dy, target) = match job {
-            Job::Position { req, target } => (
-                Dyn {
-                    v: req.dy.v * self.ovr_actual,
-                    ..req.dy
-                },
-                Some(
-                    if establishing {
-                        s.pos - retreat
-                    } else {
-                        target
-                    } * sg,
-                ),
-            ),
-            Job::Brake { req } => (req.dy, None),
-            Job::Idle if establishing => (
-                Dyn {
-                    v: cfg.default_velocity * self.ovr_actual,
-                    a: cfg.default_acceleration,
-                    d: cfg.default_deceleration,
-                    j: cfg.default_jerk,
-                },
-                Some((s.pos - retreat) * sg),
-            ),
-            Job::Idle => {
-                if s.vel == 0.0 && s.acc == 0.0 {
-                    self.members[k].ca_limited = false;
-                    self.members[k].updated = true;
-                    return;
-                }
-                (
-                    Dyn {
-                        v: ad.max_v,
-                        a: ad.max_a,
-                        d: ad.def_d,
-                        j: ad.def_j,
-                    },
-                    None,
-                )
-            }
-        };
-        // The responsible neighbour (§1.5, §8.6).
+    /// The pair constraint C4 of member `k` in frame `sg` (§1.5, §8.6) and, in Fast mode, the
+    /// neighbour's maximum deceleration (else +inf).
+    #[allow(clippy::too_many_arguments)]
+    fn c4_bound(
+        &self,
+        k: usize,
+        s: State1,
+        sg: f64,
+        own_mode: GapControlMode,
+        establishing: bool,
+        dt: f64,
+        axes: &[Axis],
+    ) -> (Option<Bound>, f64) {
         let mut fast_dmax = f64::INFINITY;
         let c4 = if own_mode == GapControlMode::None {
             None
@@ -1788,6 +1935,240 @@ impl CaGroup {
         } else {
             None
         };
+        (c4, fast_dmax)
+    }
+
+    /// One cycle of an MC_GearInPosCA slave (§5.5.3): the coupled, cam or tracking candidate;
+    /// `None` when CA (C4) rejects it (the caller then runs the position planner toward the
+    /// coupled target, InSync drops).
+    fn step_gear(
+        &mut self,
+        k: usize,
+        req: Request,
+        mut gear: Gear,
+        dt: f64,
+        axes: &mut [Axis],
+    ) -> Option<State1> {
+        let ax = self.members[k].axis;
+        let s = axes[ax].set;
+        let ms = axes[gear.master].set;
+        let master_updated = self
+            .members
+            .iter()
+            .any(|m| m.axis == gear.master && m.updated);
+        // Master at the start and at the end of this cycle (constant acceleration).
+        let (m0, mv0, m1, mv1, ma) = if master_updated {
+            let mv0 = ms.vel - ms.acc * dt;
+            (
+                ms.pos - mv0 * dt - ms.acc * dt * dt / 2.0,
+                mv0,
+                ms.pos,
+                ms.vel,
+                ms.acc,
+            )
+        } else {
+            let m1 = ms.pos + ms.vel * dt + ms.acc * dt * dt / 2.0;
+            (ms.pos, ms.vel, m1, ms.vel + ms.acc * dt, ms.acc)
+        };
+        let r = gear.ratio;
+        let star = |m: f64| gear.ssp + r * (m - gear.msp);
+        gear.target = star(m1);
+        let coupled = State1 {
+            pos: star(m1),
+            vel: r * mv1,
+            acc: r * ma,
+        };
+        let dy = Dyn {
+            v: req.dy.v * self.ovr_actual,
+            ..req.dy
+        };
+        let cand = if gear.in_sync {
+            coupled
+        } else {
+            if !gear.started && gear.cam.is_none() && gear.strategy != SyncStrategy::Early {
+                // Late/Slow: a cam over the master position, only toward a master moving
+                // to its sync position with the slave at rest; otherwise Early tracking.
+                let at_rest = s.vel == 0.0 && s.acc == 0.0;
+                let cam = Cam::new(m0, s, mv0, gear.msp, gear.ssp, r);
+                match cam {
+                    Some(c) if at_rest && mv0 > 0.0 => {
+                        let now_ok = c.feasible(mv0, &dy);
+                        let start = match gear.strategy {
+                            SyncStrategy::Slow => true,
+                            _ => {
+                                // Late: start when waiting one more cycle becomes infeasible.
+                                let next = Cam::new(m1, s, mv0, gear.msp, gear.ssp, r);
+                                !next.is_some_and(|n| n.feasible(mv0, &dy))
+                            }
+                        };
+                        if start {
+                            if now_ok {
+                                gear.cam = Some(c);
+                                gear.started = true;
+                            } else {
+                                gear.failed = true;
+                            }
+                        }
+                    }
+                    _ => gear.strategy = SyncStrategy::Early,
+                }
+            }
+            if let Some(c) = gear.cam {
+                if m1 >= gear.msp {
+                    gear.in_sync = true;
+                    coupled
+                } else {
+                    let (p, d1, d2) = c.eval(m1);
+                    State1 {
+                        pos: p,
+                        vel: d1 * mv1,
+                        acc: d2 * mv1 * mv1 + d1 * ma,
+                    }
+                }
+            } else if gear.strategy == SyncStrategy::Early || gear.started {
+                gear.started = true;
+                // Early: jerk-limited tracking of s*(t) in the relative frame.
+                let rel = Kin {
+                    x: s.pos - star(m0),
+                    v: s.vel - r * mv0,
+                    a: s.acc - r * ma,
+                };
+                let sgr = if rel.v > 0.0
+                    || (rel.v == 0.0 && (rel.a > 0.0 || (rel.a == 0.0 && rel.x < 0.0)))
+                {
+                    1.0
+                } else {
+                    -1.0
+                };
+                let vmax = (dy.v - sgr * r * mv0).max(0.0);
+                let o = planner::step(&StepIn {
+                    s: if sgr > 0.0 { rel } else { rel.mirror() },
+                    vmax,
+                    amax: dy.a,
+                    dmax: dy.d,
+                    jmax: dy.j,
+                    target: Some(0.0),
+                    d_ca: dy.d,
+                    j_ca: dy.j,
+                    c4: None,
+                    t: dt,
+                });
+                let e = if sgr > 0.0 { o.s } else { o.s.mirror() };
+                if e.x.abs() <= 1e-3 && e.v.abs() <= 1e-3 {
+                    gear.in_sync = true;
+                    coupled
+                } else {
+                    State1 {
+                        pos: coupled.pos + e.x,
+                        vel: coupled.vel + e.v,
+                        acc: coupled.acc + e.a,
+                    }
+                }
+            } else {
+                s
+            }
+        };
+        // CA outranks the coupling (§1.10).
+        let own_mode = self.mode_of(k);
+        let sgc = if cand.vel < 0.0 { -1.0 } else { 1.0 };
+        let (b, _) = self.c4_bound(k, s, sgc, own_mode, false, dt, axes);
+        let m = &mut self.members[k];
+        m.d_ca = m.d_ca.max(dy.d.min(m.dynamics.max_d));
+        m.j_ca = m.j_ca.max(dy.j);
+        let kc = if sgc > 0.0 {
+            kin(cand)
+        } else {
+            kin(cand).mirror()
+        };
+        let ok = b.is_none_or(|b| planner::c4_ok(&b, kc, m.d_ca, m.j_ca));
+        if !ok {
+            gear.in_sync = false;
+            gear.cam = None;
+            gear.strategy = SyncStrategy::Early;
+        }
+        m.job = Job::Gear { req, gear };
+        if !ok {
+            return None;
+        }
+        m.ca_limited = false;
+        m.updated = true;
+        m.d_b = m.d_ca;
+        m.j_b = m.j_ca;
+        let dx = cand.pos - s.pos;
+        axes[ax].set = cand;
+        self.shift(k, dx);
+        Some(cand)
+    }
+
+    /// One planner step of member `k` (§8.5, §8.6).
+    fn step_member(&mut self, k: usize, dt: f64, axes: &mut [Axis]) {
+        let ax = self.members[k].axis;
+        // CA owns the set values of its members (drops a single-axis error-reaction job).
+        axes[ax].job = None;
+        if let Job::Gear { req, gear } = self.members[k].job {
+            if self.step_gear(k, req, gear, dt, axes).is_some() {
+                return;
+            }
+        }
+        let s = axes[ax].set;
+        let job = self.members[k].job;
+        let ad = self.members[k].dynamics;
+        let own_mode = self.mode_of(k);
+        let retreat = self.members[k].retreat;
+        let establishing = retreat > ESTABLISH_MIN;
+        let sg = frame_sign(s, &job, retreat);
+        let cfg = &self.cfg;
+        // Command limits (idle: brake with the axis defaults if moving; establishing: retreat
+        // by `retreat`, with the group defaults when idle, §1.7).
+        let (dy, target) = match job {
+            Job::Position { req, target } => (
+                Dyn {
+                    v: req.dy.v * self.ovr_actual,
+                    ..req.dy
+                },
+                Some(
+                    if establishing {
+                        s.pos - retreat
+                    } else {
+                        target
+                    } * sg,
+                ),
+            ),
+            Job::Brake { req } => (req.dy, None),
+            Job::Gear { req, gear } => (
+                Dyn {
+                    v: req.dy.v * self.ovr_actual,
+                    ..req.dy
+                },
+                Some(gear.target * sg),
+            ),
+            Job::Idle if establishing => (
+                Dyn {
+                    v: cfg.default_velocity * self.ovr_actual,
+                    a: cfg.default_acceleration,
+                    d: cfg.default_deceleration,
+                    j: cfg.default_jerk,
+                },
+                Some((s.pos - retreat) * sg),
+            ),
+            Job::Idle => {
+                if s.vel == 0.0 && s.acc == 0.0 {
+                    self.members[k].ca_limited = false;
+                    self.members[k].updated = true;
+                    return;
+                }
+                (
+                    Dyn {
+                        v: ad.max_v,
+                        a: ad.max_a,
+                        d: ad.def_d,
+                        j: ad.def_j,
+                    },
+                    None,
+                )
+            }
+        };
+        let (c4, fast_dmax) = self.c4_bound(k, s, sg, own_mode, establishing, dt, axes);
         // Committed CA braking dynamics (§8.4).
         let m = &mut self.members[k];
         let mut dcmd = dy.d.min(ad.max_d);

@@ -198,8 +198,9 @@ pub const START_THRESHOLD: f64 = 1e-4;
 /// Bisection steps: jerk resolution 2·J/2³² (< 1e-4 mm/s³ at J = 2e5).
 const ITER: usize = 32;
 
+/// C4 for a candidate state (forward frame).
 #[inline]
-fn c4_ok(b: &Bound, s: Kin, db: f64, jb: f64) -> bool {
+pub fn c4_ok(b: &Bound, s: Kin, db: f64, jb: f64) -> bool {
     s.x <= b.pos_bound && stop_point_le(s, db, jb, b.stop_bound)
 }
 

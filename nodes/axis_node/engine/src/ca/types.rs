@@ -135,6 +135,19 @@ ca_enum! {
 }
 
 ca_enum! {
+    /// MC_SYNC_STRATEGY of MC_GearInPosCA (§5.5.3).
+    SyncStrategy: "SyncStrategy", errors::INVALID_MODE, {
+        /// 1 (preset): start as late as possible with the full sync dynamics.
+        #[default]
+        Late = 1,
+        /// 2: start at once with reduced dynamics, arrive when the master reaches its sync position.
+        Slow = 2,
+        /// 3: start at once with full dynamics, InSync as early as possible.
+        Early = 3,
+    }
+}
+
+ca_enum! {
     /// MC_BUFFER_MODE as accepted by the CA blocks (§5.0): only Aborting and Buffered.
     CaBufferMode: "BufferMode", errors::INVALID_BUFFER_MODE, {
         /// 0 (default): replace the running command at once.
@@ -346,6 +359,51 @@ pub struct HaltCa {
     pub gap_control_mode: GapControlMode,
 }
 
+/// MC_GearInPosCA (§5.5): the slave (a CA group axis) follows
+/// `s* = SlaveSyncPosition + ratio · (m − MasterSyncPosition)` of the master's set position.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct GearInPosCa {
+    /// Master axis (any axis, inside or outside the group).
+    pub master: String,
+    /// Slave axis (CA group member).
+    pub slave: String,
+    /// ContinuousUpdate (only the Gap).
+    pub continuous_update: bool,
+    /// RatioNumerator (Unset/DEFAULT = 1).
+    pub ratio_numerator: McLreal,
+    /// RatioDenumerator (≠ 0; send 1 for the preset).
+    pub ratio_denumerator: u16,
+    /// MasterSyncPosition \[mm\] (mandatory).
+    pub master_sync_position: McLreal,
+    /// SlaveSyncPosition \[mm\] (mandatory).
+    pub slave_sync_position: McLreal,
+    /// SyncStrategy.
+    pub sync_strategy: SyncStrategy,
+    /// Velocity of the sync phase (mandatory).
+    pub velocity: McLreal,
+    /// Acceleration of the sync phase.
+    pub acceleration: McLreal,
+    /// Deceleration of the sync phase.
+    pub deceleration: McLreal,
+    /// Jerk of the sync phase.
+    pub jerk: McLreal,
+    /// Gap.
+    pub gap: McLreal,
+    /// BufferMode.
+    pub buffer_mode: CaBufferMode,
+    /// Options.GapControlMode.
+    pub gap_control_mode: GapControlMode,
+}
+
+/// StartSync / InSync of an MC_GearInPosCA instance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct GearOutputs {
+    /// StartSync: synchronising.
+    pub start_sync: bool,
+    /// InSync: coupled.
+    pub in_sync: bool,
+}
+
 /// One CA block call (one Execute edge / Enable call).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum CaCommand {
@@ -430,6 +488,8 @@ pub enum CaCommand {
     MoveRelative(MoveRelativeCa),
     /// MC_HaltCA.
     Halt(HaltCa),
+    /// MC_GearInPosCA.
+    GearInPos(GearInPosCa),
     /// A later call of a running CA move started with ContinuousUpdate: new Gap (§1.3).
     UpdateGap {
         /// Axis name.
@@ -568,6 +628,8 @@ pub enum CaFbKind {
     MoveRelative,
     /// MC_HaltCA.
     Halt,
+    /// MC_GearInPosCA.
+    GearInPos,
     /// MC_GroupHalt.
     GroupHalt,
     /// MC_GroupStop.

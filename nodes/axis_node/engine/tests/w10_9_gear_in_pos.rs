@@ -1,0 +1,189 @@
+//! collision_avoidance.md §10.9 "Gear ratio and sync strategies" (MC_GearInPosCA, §5.5):
+//! master cruising at 500 mm/s, at 0 when the command is issued, MasterSyncPosition 1000
+//! (t = 2.0 s); slave at rest at 0, SlaveSyncPosition 1400, ratio 1 ⇒ s* = m + 400; sync
+//! V 1500, A = D = 10000, J = 100000.
+
+mod ca_common;
+use axis_engine::ca::types::errors::*;
+use axis_engine::ca::*;
+use axis_engine::{AxisCommand, MoveVelocity};
+use ca_common::*;
+use motion_core::{CmdId, CommandState, Engine};
+
+/// Master "MA" outside the group, slave "S" the only group axis (open rail).
+fn rig() -> CaRig {
+    let mut r = CaRig::ungrouped(&[("MA", -300.0), ("S", 0.0)], open(100000.0));
+    r.add("S", 1).unwrap();
+    r.enable();
+    r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
+        axis: "MA".into(),
+        velocity: 500.0,
+        acceleration: 10000.0,
+        deceleration: 10000.0,
+        jerk: 100000.0,
+        direction: axis_engine::Direction::Positive,
+        buffer_mode: axis_engine::BufferMode::Aborting,
+        options: Default::default(),
+    }))
+    .unwrap();
+    r.until(5000, |r| r.e.status("MA").unwrap().set_pos >= 0.0);
+    r
+}
+
+fn gear(r: &mut CaRig, strategy: SyncStrategy, ratio: f64) -> CmdId {
+    r.ok(CaCommand::GearInPos(GearInPosCa {
+        master: "MA".into(),
+        slave: "S".into(),
+        ratio_numerator: McLreal::Value(ratio),
+        ratio_denumerator: 1,
+        master_sync_position: McLreal::Value(1000.0),
+        slave_sync_position: McLreal::Value(1400.0),
+        sync_strategy: strategy,
+        velocity: McLreal::Value(1500.0),
+        acceleration: McLreal::Value(10000.0),
+        deceleration: McLreal::Value(10000.0),
+        jerk: McLreal::Value(100000.0),
+        ..Default::default()
+    }))
+}
+
+/// (first StartSync [s], first InSync [s], peak |a| [mm/s²]); checks s = m + 400 after sync.
+fn run(strategy: SyncStrategy) -> (f64, f64, f64) {
+    let mut r = rig();
+    let m_at_cmd = r.e.status("MA").unwrap().set_pos;
+    let id = gear(&mut r, strategy, 1.0);
+    let (mut start, mut sync, mut peak) = (None, None, 0.0f64);
+    for k in 1..=3000 {
+        r.step();
+        let o = r.e.ca_groups().gear_outputs(id).unwrap();
+        let t = k as f64 * T;
+        if o.start_sync && start.is_none() {
+            start = Some(t);
+        }
+        if o.in_sync && sync.is_none() {
+            sync = Some(t);
+        }
+        peak = peak.max(r.axis("S").acceleration.abs());
+        if o.in_sync {
+            let m = r.e.status("MA").unwrap().set_pos;
+            assert!(
+                (r.pos("S") - (m + 400.0)).abs() < 1e-6,
+                "coupled: s = m + 400"
+            );
+        }
+    }
+    assert!(m_at_cmd.abs() < 0.5);
+    assert_eq!(
+        r.cmd_state(id),
+        CommandState::Active,
+        "no Done: the coupling lasts"
+    );
+    (
+        start.unwrap_or(f64::NAN),
+        sync.expect("InSync reached"),
+        peak,
+    )
+}
+
+#[test]
+fn early_syncs_well_before_the_master_sync_position() {
+    let (start, sync, _) = run(SyncStrategy::Early);
+    assert!(start <= 2.0 * T, "StartSync at once: {start}");
+    assert!(sync < 1.8, "InSync well before 2.0 s: {sync}");
+}
+
+#[test]
+fn slow_and_late_sync_when_the_master_reaches_its_sync_position() {
+    let (s_start, s_sync, s_peak) = run(SyncStrategy::Slow);
+    let (l_start, l_sync, l_peak) = run(SyncStrategy::Late);
+    assert!(s_start <= 2.0 * T, "Slow starts at once: {s_start}");
+    assert!(
+        (s_sync - 2.0).abs() <= 2.0 * T + 0.0015,
+        "Slow InSync at 2.0 s: {s_sync}"
+    );
+    assert!(l_start > 2.0 * T, "Late starts later: {l_start}");
+    assert!(
+        (l_sync - 2.0).abs() <= 2.0 * T + 0.0015,
+        "Late InSync at 2.0 s: {l_sync}"
+    );
+    assert!(
+        s_peak < l_peak,
+        "Slow has lower peak dynamics: {s_peak} vs {l_peak}"
+    );
+}
+
+#[test]
+fn ratio_0_8_slave_runs_at_0_8_master_velocity() {
+    let mut r = rig();
+    let id = gear(&mut r, SyncStrategy::Early, 0.8);
+    r.until(3000, |r| r.e.ca_groups().gear_outputs(id).unwrap().in_sync);
+    r.steps(10);
+    assert!(
+        (r.axis("S").velocity - 400.0).abs() < 1e-6,
+        "0.8 × 500: {}",
+        r.axis("S").velocity
+    );
+}
+
+#[test]
+fn gear_validation() {
+    let mut r = rig();
+    let base = GearInPosCa {
+        master: "MA".into(),
+        slave: "S".into(),
+        ratio_denumerator: 1,
+        master_sync_position: McLreal::Value(1000.0),
+        slave_sync_position: McLreal::Value(1400.0),
+        velocity: McLreal::Value(1500.0),
+        ..Default::default()
+    };
+    let cases = [
+        (
+            GearInPosCa {
+                ratio_denumerator: 0,
+                ..base.clone()
+            },
+            PARAMETER_NOT_CORRECT,
+        ),
+        (
+            GearInPosCa {
+                master: "S".into(),
+                ..base.clone()
+            },
+            PARAMETER_NOT_CORRECT,
+        ),
+        (
+            GearInPosCa {
+                master: "zz".into(),
+                ..base.clone()
+            },
+            AXIS_NOT_IN_GROUP,
+        ),
+        (
+            GearInPosCa {
+                master_sync_position: McLreal::Unset,
+                ..base.clone()
+            },
+            INVALID_TARGET_POSITION,
+        ),
+        (
+            GearInPosCa {
+                velocity: McLreal::Unset,
+                ..base.clone()
+            },
+            INVALID_VELOCITY,
+        ),
+    ];
+    for (c, id) in cases {
+        assert_eq!(r.err(CaCommand::GearInPos(c)), id);
+    }
+    // Decoupled by another command with BufferMode Aborting.
+    let g = r.ok(CaCommand::GearInPos(GearInPosCa {
+        sync_strategy: SyncStrategy::Early,
+        ..base
+    }));
+    r.steps(100);
+    r.mv_rel("S", 10.0, 100.0);
+    r.step();
+    assert_eq!(r.cmd_state(g), CommandState::Aborted);
+}
