@@ -237,3 +237,10 @@ fn standard_both_random_traffic_with_reverse_moves_never_violates_a_gap() {
         );
     }
 }
+
+#[test]
+fn fast_both_random_traffic_with_reverse_moves_never_violates_a_gap() {
+    for s in seeds() {
+        run(s, DefaultGapControlMode::Fast, GapControlDirection::Both);
+    }
+}
