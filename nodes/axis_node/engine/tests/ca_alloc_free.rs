@@ -36,7 +36,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static A: Counting = Counting;
 
-
 #[test]
 fn ca_ring_step_is_allocation_free() {
     let mut e = bench_ring(50);
@@ -50,15 +49,30 @@ fn ca_ring_step_is_allocation_free() {
     .unwrap();
     for k in 0..100 {
         ev.clear();
-        e.step(Tick { index: 5000 + k, dt: 0.001 }, &mut ev);
+        e.step(
+            Tick {
+                index: 5000 + k,
+                dt: 0.001,
+            },
+            &mut ev,
+        );
     }
     MEASURING.with(|m| m.set(true));
     for k in 0..3000 {
         ev.clear();
-        e.step(Tick { index: 6000 + k, dt: 0.001 }, &mut ev);
+        e.step(
+            Tick {
+                index: 6000 + k,
+                dt: 0.001,
+            },
+            &mut ev,
+        );
     }
     MEASURING.with(|m| m.set(false));
     assert_eq!(ALLOCS.load(Ordering::Relaxed), 0, "allocations in step");
     let g = &e.snapshot().ca_groups[0];
-    assert!(g.axes.iter().any(|a| a.ca_limited), "followers were limited by CA");
+    assert!(
+        g.axes.iter().any(|a| a.ca_limited),
+        "followers were limited by CA"
+    );
 }

@@ -260,11 +260,48 @@ fn search_from(s: Kin, t: f64, jl: f64, hi: f64, upper: impl Fn(Kin) -> bool) ->
     Some(a)
 }
 
-/// Largest j in `[lo, hi]` above the L threshold that satisfies `upper` (monotone).
+/// Largest j in `[jl, hi]` with `f(end state) ≤ 0` for a continuous residual `f` increasing
+/// in j (Illinois regula falsi: a few evaluations instead of a full bisection; the returned
+/// j is always on the feasible side, within 1e-9 mm of the bound or the jerk resolution).
 #[inline]
-fn search(s: Kin, t: f64, lo: f64, hi: f64, jp: f64, upper: impl Fn(Kin) -> bool) -> Option<f64> {
-    let jl = lower_threshold(s, t, lo, hi, jp)?;
-    search_from(s, t, jl, hi, upper)
+fn root_from(s: Kin, t: f64, jl: f64, hi: f64, f: impl Fn(Kin) -> f64) -> Option<f64> {
+    let fb0 = f(integrate(s, hi, t));
+    if fb0 <= 0.0 {
+        return Some(hi);
+    }
+    let fa0 = f(integrate(s, jl, t));
+    if fa0 > 0.0 {
+        return None;
+    }
+    let (mut a, mut fa, mut b, mut fb) = (jl, fa0, hi, fb0);
+    let width = (hi - jl).abs().max(1.0);
+    let mut side = 0;
+    for _ in 0..(2 * ITER) {
+        if fa > -1e-9 || b - a <= width * 2f64.powi(-(ITER as i32)) {
+            break;
+        }
+        let mut m = (a * fb - b * fa) / (fb - fa);
+        if !(m > a && m < b) {
+            m = 0.5 * (a + b);
+        }
+        let fm = f(integrate(s, m, t));
+        if fm <= 0.0 {
+            a = m;
+            fa = fm;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = m;
+            fb = fm;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    Some(a)
 }
 
 /// The jerk at which C2 (`v' + a'|a'|/(2J) = V`) becomes tight, in closed form (numerically
@@ -398,7 +435,12 @@ pub fn step(p: &StepIn) -> StepOut {
             }
         }
         let (lo, hi) = range(s, p.amax, db, jb, t);
-        match search(s, t, lo, hi, jb, |e| c4_ok(&b, e, db, jb)) {
+        let found = lower_threshold(s, t, lo, hi, jb).and_then(|jl| {
+            root_from(s, t, jl, hi, |e| {
+                (e.x - b.pos_bound).max(stop_point(e, db, jb) - b.stop_bound)
+            })
+        });
+        match found {
             Some(j) => j_ca = j,
             None => {
                 let e = brake_n();
