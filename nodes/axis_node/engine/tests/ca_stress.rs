@@ -44,9 +44,10 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
     let mut worst = f64::INFINITY;
     let mut moved = 0.0;
     let mut halts = 0;
+    let mut stop_at: Option<usize> = None;
     for cycle in 0..10_000 {
         // Random traffic: on average a new command every 20 cycles, a leader halt every 400.
-        if rng.gen_bool(0.05) {
+        if rng.gen_bool(0.05) && stop_at.is_none() {
             let i = rng.gen_range(0..10);
             let jerk = rng.gen_range(1000.0..JMAX);
             let acc = rng.gen_range(100.0..AMAX);
@@ -111,7 +112,43 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
             };
             res.unwrap_or_else(|e| panic!("seed {seed} cycle {cycle}: rejected {e}"));
         }
-        if rng.gen_bool(0.0025) {
+        // Group-wide stops now and then: MC_GroupHalt (not locking) and MC_GroupStop (locking,
+        // released once the group stands).
+        if stop_at.is_none() && rng.gen_bool(0.0008) {
+            r.ca(CaCommand::GroupHalt {
+                group: G.into(),
+                deceleration: McLreal::Unset,
+                jerk: McLreal::Unset,
+            })
+            .unwrap();
+        }
+        if stop_at.is_none() && rng.gen_bool(0.0004) {
+            stop_at = Some(cycle);
+            r.ca(CaCommand::GroupStop {
+                group: G.into(),
+                execute: true,
+                deceleration: McLreal::Maximum,
+                jerk: McLreal::Unset,
+            })
+            .unwrap();
+        }
+        if stop_at.is_some_and(|c| cycle > c + 50) && r.group().all_axes_standing {
+            stop_at = None;
+            r.ca(CaCommand::GroupStop {
+                group: G.into(),
+                execute: false,
+                deceleration: McLreal::Unset,
+                jerk: McLreal::Unset,
+            })
+            .unwrap();
+            r.step();
+            assert_eq!(
+                r.state(),
+                GroupState::GroupStandby,
+                "released after the stop"
+            );
+        }
+        if rng.gen_bool(0.0025) && stop_at.is_none() {
             halts += 1;
             r.ca(CaCommand::Halt(HaltCa {
                 axis: "M1".into(),
@@ -183,6 +220,7 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
             moved += a.velocity.abs() * T;
         }
     }
+    eprintln!("seed {seed} {mode:?} {direction:?}: moved {moved:.0} mm, {halts} leader halts");
     assert!(
         moved > 10_000.0,
         "the traffic really moved the train: {moved} mm"
