@@ -33,6 +33,13 @@
 //! §4.7.4), `axis` (setpoint generator, monitoring, error reaction), `homing` (§4.10),
 //! `gearing` (§4.12), `torque` (§4.14), `engine` (command screening and FB semantics),
 //! [`config`] (§1.2 defaults).
+//!
+//! Collision-avoidance groups (collision_avoidance.md) live in [`ca`]: groups are configured
+//! with [`AxisEngine::add_ca_group`], every CA block is `AxisCommand::Ca(`[`ca::CaCommand`]`)`,
+//! values of read/enable blocks come back as `ReplyValue::Ca(`[`ca::CaValue`]`)`, the groups
+//! are published in [`AxisSnapshot::ca_groups`] (per axis: order, predecessor, gap to it,
+//! effective gap, CA limitation), instance outputs through [`AxisEngine::outputs`] and
+//! [`ca::CaGroups::gear_outputs`]. [`bench_ring`] builds a moving ring for benchmarks.
 
 mod axis;
 pub mod buffer;

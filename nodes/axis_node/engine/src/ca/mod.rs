@@ -25,6 +25,8 @@ pub use types::*;
 const EPS: f64 = 1e-6;
 /// Smallest retreat that starts establishing motion \[mm\] (§1.7: `e_i < x_i − 1e-6`).
 const ESTABLISH_MIN: f64 = 1e-6;
+/// CA instances above this count are pruned (finished ones) when a new one is admitted.
+const PRUNE_ABOVE: usize = 4096;
 /// Jerk used for MC_IGNORE (unlimited jerk of group halt/stop) \[mm/s³\].
 const JERK_UNLIMITED: f64 = 1e15;
 
@@ -630,6 +632,11 @@ impl CaGroups {
     // ------------------------------------------------------------------ instances
 
     fn admit(&mut self, fbs: &mut Handshake, kind: CaFbKind, state: CommandState) -> CmdId {
+        // Bounded table: finished instances are dropped once it grows large (as the
+        // single-axis handshake does).
+        if self.instances.len() > PRUNE_ABOVE {
+            self.instances.retain(|_, i| !i.state.is_final());
+        }
         let id = fbs.untracked_id();
         self.instances.insert(
             id,
