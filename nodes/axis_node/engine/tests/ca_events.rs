@@ -10,14 +10,19 @@ use motion_core::{CommandEvent, CommandState, Engine};
 #[test]
 fn motion_commands_are_tracked_and_end_with_one_final_event() {
     let mut r = CaRig::new(&[("A", 0.0), ("B", -500.0)], open(5000.0));
-    let rep = r.ca(CaCommand::MoveAbsolute(MoveAbsoluteCa {
-        axis: "A".into(),
-        position: McLreal::Value(100.0),
-        velocity: McLreal::Value(500.0),
-        ..Default::default()
-    }))
-    .unwrap();
-    assert_eq!(AxisEngine::reply_id(&rep), Some(rep.id), "tracked: events follow");
+    let rep = r
+        .ca(CaCommand::MoveAbsolute(MoveAbsoluteCa {
+            axis: "A".into(),
+            position: McLreal::Value(100.0),
+            velocity: McLreal::Value(500.0),
+            ..Default::default()
+        }))
+        .unwrap();
+    assert_eq!(
+        AxisEngine::reply_id(&rep),
+        Some(rep.id),
+        "tracked: events follow"
+    );
     let o = r.out(rep.id);
     assert!(o.busy && o.active && !o.done);
     let mut log: Vec<CommandEvent> = Vec::new();
@@ -30,7 +35,9 @@ fn motion_commands_are_tracked_and_end_with_one_final_event() {
     assert_eq!(mine[0].state, CommandState::Done);
     assert!(r.out(rep.id).done);
     // Read blocks are untracked.
-    let rd = r.ca(CaCommand::GroupReadStatus { group: G.into() }).unwrap();
+    let rd = r
+        .ca(CaCommand::GroupReadStatus { group: G.into() })
+        .unwrap();
     assert_eq!(AxisEngine::reply_id(&rd), None);
 }
 
@@ -50,8 +57,12 @@ fn aborted_and_buffered_commands_report_their_transitions() {
     let mut log: Vec<CommandEvent> = r.events.clone();
     r.step();
     log.extend(r.events.iter().copied());
-    assert!(log.iter().any(|e| e.id == a && e.state == CommandState::Aborted));
-    assert!(log.iter().any(|e| e.id == b && e.state == CommandState::Aborted));
+    assert!(log
+        .iter()
+        .any(|e| e.id == a && e.state == CommandState::Aborted));
+    assert!(log
+        .iter()
+        .any(|e| e.id == b && e.state == CommandState::Aborted));
     r.until(3000, |r| r.cmd_state(c) == CommandState::Done);
     assert_eq!(r.pos("A"), 200.0);
 }
