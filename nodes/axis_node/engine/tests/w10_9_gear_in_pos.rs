@@ -12,7 +12,11 @@ use motion_core::{CmdId, CommandState, Engine};
 
 /// Master "MA" outside the group, slave "S" the only group axis (open rail).
 fn rig() -> CaRig {
-    let mut r = CaRig::ungrouped(&[("MA", -300.0), ("S", 0.0)], open(100000.0));
+    rig_on(open(100000.0), 0.0)
+}
+
+fn rig_on(cfg: CaGroupConfig, slave: f64) -> CaRig {
+    let mut r = CaRig::ungrouped(&[("MA", -300.0), ("S", slave)], cfg);
     r.add("S", 1).unwrap();
     r.enable();
     r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
@@ -186,4 +190,94 @@ fn gear_validation() {
     r.mv_rel("S", 10.0, 100.0);
     r.step();
     assert_eq!(r.cmd_state(g), CommandState::Aborted);
+}
+
+#[test]
+fn master_start_distance_delays_the_start() {
+    let mut r = rig();
+    let id = r.ok(CaCommand::GearInPos(GearInPosCa {
+        master: "MA".into(),
+        slave: "S".into(),
+        ratio_denumerator: 1,
+        master_sync_position: McLreal::Value(1000.0),
+        slave_sync_position: McLreal::Value(1400.0),
+        master_start_distance: McLreal::Value(500.0),
+        sync_strategy: SyncStrategy::Early,
+        velocity: McLreal::Value(1500.0),
+        ..Default::default()
+    }));
+    let mut start = None;
+    for k in 1..=3000 {
+        r.step();
+        if start.is_none() && r.e.ca_groups().gear_outputs(id).unwrap().start_sync {
+            start = Some(k as f64 * T);
+        }
+    }
+    let start = start.expect("started");
+    assert!(
+        (start - 1.0).abs() <= 3.0 * T,
+        "starts when the master passes 500 (t = 1.0 s): {start}"
+    );
+    assert!(r.e.ca_groups().gear_outputs(id).unwrap().in_sync);
+}
+
+#[test]
+fn sync_options_and_sync_mode_validation() {
+    let mut r = rig();
+    let base = GearInPosCa {
+        master: "MA".into(),
+        slave: "S".into(),
+        ratio_denumerator: 1,
+        master_sync_position: McLreal::Value(1000.0),
+        slave_sync_position: McLreal::Value(1400.0),
+        velocity: McLreal::Value(1500.0),
+        ..Default::default()
+    };
+    let both = GearInPosCa {
+        forbid_master_velocity_undershoot: true,
+        forbid_master_velocity_overshoot: true,
+        ..base.clone()
+    };
+    assert_eq!(r.err(CaCommand::GearInPos(both)), INVALID_SYNC_OPTIONS);
+    let modulo = GearInPosCa {
+        sync_mode: SyncMode::Positive,
+        ..base.clone()
+    };
+    assert_eq!(
+        r.err(CaCommand::GearInPos(modulo)),
+        MODULO_ON_OPEN_RAIL,
+        "open rail"
+    );
+    let bad = GearInPosCa {
+        master_start_distance: McLreal::Value(f64::NAN),
+        ..base
+    };
+    assert_eq!(r.err(CaCommand::GearInPos(bad)), PARAMETER_NOT_CORRECT);
+    assert_eq!(SyncMode::from_raw(2).unwrap_err().error_id, INVALID_MODE);
+    assert_eq!(
+        SyncStrategy::from_raw(0).unwrap_err().error_id,
+        INVALID_MODE
+    );
+}
+
+#[test]
+fn sync_mode_positive_takes_the_next_occurrence_on_a_ring() {
+    let mut r = rig_on(ring(3000.0), 2900.0);
+    let id = r.ok(CaCommand::GearInPos(GearInPosCa {
+        master: "MA".into(),
+        slave: "S".into(),
+        ratio_denumerator: 1,
+        master_sync_position: McLreal::Value(1000.0),
+        slave_sync_position: McLreal::Value(100.0),
+        sync_mode: SyncMode::Positive,
+        sync_strategy: SyncStrategy::Early,
+        velocity: McLreal::Value(1500.0),
+        ..Default::default()
+    }));
+    r.until(3000, |r| r.e.ca_groups().gear_outputs(id).unwrap().in_sync);
+    let m = r.e.status("MA").unwrap().set_pos;
+    assert!(
+        (r.pos("S") - (3100.0 + m - 1000.0)).abs() < 1e-6,
+        "s* = 3100 + (m − 1000)"
+    );
 }

@@ -304,6 +304,44 @@ impl CaGroups {
                 };
                 let msp = pos(c.master_sync_position, "MasterSyncPosition")?;
                 let ssp = pos(c.slave_sync_position, "SlaveSyncPosition")?;
+                let cfg = &self.groups[g].cfg;
+                let x = axes[self.groups[g].members[k].axis].set.pos;
+                let ssp = match c.sync_mode {
+                    SyncMode::NonModulo => ssp,
+                    _ if !cfg.rail_is_ring => {
+                        return Err(rej(
+                            err::MODULO_ON_OPEN_RAIL,
+                            format!("{fb}: SyncMode {:?} needs a ring", c.sync_mode),
+                        ))
+                    }
+                    _ if !(0.0..cfg.rail_length).contains(&ssp) => {
+                        return Err(rej(
+                            err::INVALID_TARGET_POSITION,
+                            format!(
+                                "{fb}: modulo SlaveSyncPosition {ssp} outside [0, {})",
+                                cfg.rail_length
+                            ),
+                        ))
+                    }
+                    SyncMode::Positive => x + (ssp - x).rem_euclid(cfg.rail_length),
+                    SyncMode::Negative => x - (x - ssp).rem_euclid(cfg.rail_length),
+                };
+                let start_distance = match c.master_start_distance {
+                    McLreal::Unset | McLreal::Ignore => None,
+                    McLreal::Value(d) if d.is_finite() => Some(d),
+                    other => {
+                        return Err(rej(
+                            err::PARAMETER_NOT_CORRECT,
+                            format!("{fb}.MasterStartDistance = {other:?}"),
+                        ))
+                    }
+                };
+                if c.forbid_master_velocity_undershoot && c.forbid_master_velocity_overshoot {
+                    return Err(rej(
+                        err::INVALID_SYNC_OPTIONS,
+                        format!("{fb}: undershoot and overshoot both forbidden"),
+                    ));
+                }
                 let num = match c.ratio_numerator {
                     McLreal::Unset | McLreal::Default => 1.0,
                     McLreal::Value(v) if v.is_finite() => v,
@@ -330,6 +368,7 @@ impl CaGroups {
                     ssp,
                     strategy: c.sync_strategy,
                     started: false,
+                    start_distance,
                     in_sync: false,
                     failed: false,
                     cam: None,

@@ -11,6 +11,8 @@ pub(super) struct Gear {
     pub(super) ssp: f64,
     pub(super) strategy: SyncStrategy,
     pub(super) started: bool,
+    /// MasterStartDistance (None = start when Active).
+    pub(super) start_distance: Option<f64>,
     pub(super) in_sync: bool,
     pub(super) failed: bool,
     pub(super) cam: Option<Cam>,
@@ -116,7 +118,17 @@ impl CaGroup {
             v: req.dy.v * self.ovr_actual,
             ..req.dy
         };
-        let cand = if gear.in_sync {
+        // MasterStartDistance: a standing slave waits until the master passes the start point.
+        if let Some(d) = gear.start_distance {
+            let start = gear.msp - d;
+            let reached = if d > 0.0 { m1 >= start } else { m1 <= start };
+            if reached || s.vel != 0.0 || s.acc != 0.0 {
+                gear.start_distance = None;
+            }
+        }
+        let cand = if gear.start_distance.is_some() {
+            s
+        } else if gear.in_sync {
             coupled
         } else {
             if !gear.started && gear.cam.is_none() && gear.strategy != SyncStrategy::Early {

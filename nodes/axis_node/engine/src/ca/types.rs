@@ -148,6 +148,19 @@ ca_enum! {
 }
 
 ca_enum! {
+    /// MC_SYNC_MODE of MC_GearInPosCA: how SlaveSyncPosition is read on a ring (§5.5.3).
+    SyncMode: "SyncMode", errors::INVALID_MODE, {
+        /// 0 (preset): absolute slave position.
+        #[default]
+        NonModulo = 0,
+        /// 1: next occurrence of the modulo position in positive direction.
+        Positive = 1,
+        /// 3: next occurrence in negative direction.
+        Negative = 3,
+    }
+}
+
+ca_enum! {
     /// MC_BUFFER_MODE as accepted by the CA blocks (§5.0): only Aborting and Buffered.
     CaBufferMode: "BufferMode", errors::INVALID_BUFFER_MODE, {
         /// 0 (default): replace the running command at once.
@@ -379,6 +392,11 @@ pub struct GearInPosCa {
     pub slave_sync_position: McLreal,
     /// SyncStrategy.
     pub sync_strategy: SyncStrategy,
+    /// SyncMode (modulo modes only on a ring).
+    pub sync_mode: SyncMode,
+    /// MasterStartDistance \[mm\]: Unset/IGNORE = start when Active; > 0: start once
+    /// master ≥ MasterSyncPosition − d; < 0: once master ≤ MasterSyncPosition − d.
+    pub master_start_distance: McLreal,
     /// Velocity of the sync phase (mandatory).
     pub velocity: McLreal,
     /// Acceleration of the sync phase.
@@ -393,6 +411,11 @@ pub struct GearInPosCa {
     pub buffer_mode: CaBufferMode,
     /// Options.GapControlMode.
     pub gap_control_mode: GapControlMode,
+    /// Options.MasterVelocityUndershootAllowed, negated (ROS encoding §9.3). Validated
+    /// only (both `forbid_…` TRUE ⇒ INVALID_SYNC_OPTIONS); not yet enforced while syncing.
+    pub forbid_master_velocity_undershoot: bool,
+    /// Options.MasterVelocityOvershootAllowed, negated. Validated only (see above).
+    pub forbid_master_velocity_overshoot: bool,
 }
 
 /// StartSync / InSync of an MC_GearInPosCA instance.
