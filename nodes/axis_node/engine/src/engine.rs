@@ -224,6 +224,7 @@ impl AxisEngine {
     fn axis_status(&self, i: usize, master: bool) -> AxisStatus {
         let mut s = self.axes[i].status();
         s.couple_state = self.couple_state(i, master);
+        self.ca.patch_status(i, &mut s);
         s
     }
 

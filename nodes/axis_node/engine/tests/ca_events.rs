@@ -66,3 +66,37 @@ fn aborted_and_buffered_commands_report_their_transitions() {
     r.until(3000, |r| r.cmd_state(c) == CommandState::Done);
     assert_eq!(r.pos("A"), 200.0);
 }
+
+#[test]
+fn single_axis_status_of_members_shows_the_ca_motion() {
+    use axis_engine::MotionState;
+    let mut r = CaRig::new(&[("A", 0.0), ("B", -100.0)], open(5000.0));
+    assert_eq!(
+        r.e.status("A").unwrap().motion_state,
+        MotionState::Standstill
+    );
+    let a = r.mv_abs("A", 300.0, 500.0);
+    let b = r.mv_abs("B", 300.0, 500.0);
+    r.steps(10);
+    assert_eq!(
+        r.e.status("A").unwrap().motion_state,
+        MotionState::DiscreteMotion
+    );
+    r.until(3000, |r| r.cmd_state(a) == CommandState::Done);
+    r.steps(1000);
+    assert_eq!(
+        r.e.status("A").unwrap().motion_state,
+        MotionState::Standstill,
+        "A Done"
+    );
+    assert_eq!(r.cmd_state(b), CommandState::Active);
+    assert_eq!(
+        r.e.status("B").unwrap().motion_state,
+        MotionState::DiscreteMotion,
+        "queued follower: its command is still running"
+    );
+    assert!(
+        (r.e.status("B").unwrap().set_pos - 200.0).abs() < 1e-3,
+        "rests one gap behind"
+    );
+}

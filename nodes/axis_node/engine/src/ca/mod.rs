@@ -518,6 +518,35 @@ impl CaGroups {
             })
     }
 
+    /// The single-axis view of a member of an enabled group (its set values come from CA, not
+    /// from a single-axis job): DiscreteMotion while a CA move/halt runs (or the axis moves),
+    /// SynchronizedMotion while coupled by MC_GearInPosCA, HasJob set accordingly. Error and
+    /// disabled states of the axis are left as they are.
+    pub(crate) fn patch_status(&self, ax: usize, st: &mut crate::snapshot::AxisStatus) {
+        use crate::snapshot::bits;
+        use crate::state::MotionState;
+        let Some(&g) = self.axis_group.get(&ax) else {
+            return;
+        };
+        let gr = &self.groups[g];
+        if !gr.enabled() || st.motion_state != MotionState::Standstill {
+            return;
+        }
+        let Some(m) = gr.members.iter().find(|m| m.axis == ax) else {
+            return;
+        };
+        let moving = st.set_velo != 0.0 || st.set_acc != 0.0;
+        let state = match m.job {
+            Job::Gear { .. } => MotionState::SynchronizedMotion,
+            Job::Position { .. } | Job::Brake { .. } => MotionState::DiscreteMotion,
+            Job::Idle if moving || m.retreat > ESTABLISH_MIN => MotionState::DiscreteMotion,
+            Job::Idle => return,
+        };
+        st.motion_state = state;
+        st.state_dword |= bits::HAS_JOB;
+        st.state_dword &= !bits::NOT_MOVING;
+    }
+
     /// True when `id` is a CA block instance.
     pub(crate) fn owns(&self, id: CmdId) -> bool {
         self.instances.contains_key(&id)
