@@ -57,6 +57,7 @@ fn run(strategy: SyncStrategy) -> (f64, f64, f64) {
     let m_at_cmd = r.e.status("MA").unwrap().set_pos;
     let id = gear(&mut r, strategy, 1.0);
     let (mut start, mut sync, mut peak) = (None, None, 0.0f64);
+    let (mut prev_a, mut max_jerk) = (0.0, 0.0f64);
     for k in 1..=3000 {
         r.step();
         let o = r.e.ca_groups().gear_outputs(id).unwrap();
@@ -68,6 +69,9 @@ fn run(strategy: SyncStrategy) -> (f64, f64, f64) {
             sync = Some(t);
         }
         peak = peak.max(r.axis("S").acceleration.abs());
+        let a = r.axis("S").acceleration;
+        max_jerk = max_jerk.max((a - prev_a).abs() / T);
+        prev_a = a;
         if o.in_sync {
             let m = r.e.status("MA").unwrap().set_pos;
             assert!(
@@ -77,6 +81,8 @@ fn run(strategy: SyncStrategy) -> (f64, f64, f64) {
         }
     }
     assert!(m_at_cmd.abs() < 0.5);
+    eprintln!("{strategy:?}: max jerk {max_jerk:.0}, peak acc {peak:.0}");
+    assert!(max_jerk <= 100000.0 * (1.0 + 1e-6), "{strategy:?}: sync jerk {max_jerk} > 100000");
     assert_eq!(
         r.cmd_state(id),
         CommandState::Active,
