@@ -198,3 +198,39 @@ fn register_compensation() {
     });
     assert_eq!(r.axis("A").compensation_id, 0, "id 0 unregisters");
 }
+
+#[test]
+fn compensated_follower_keeps_its_gap_on_the_offset_path_in_a_curve() {
+    let mut r = CaRig::new(&[("L", 1300.0), ("F", 900.0)], cfg());
+    r.ok(CaCommand::RegisterCompensation {
+        axis: "F".into(),
+        compensation_type: 1,
+        compensation_id: TPL,
+    });
+    let f = r.ok(CaCommand::MoveAbsolute(MoveAbsoluteCa {
+        axis: "F".into(),
+        position: McLreal::Value(1290.0),
+        velocity: McLreal::Value(500.0),
+        gap: McLreal::Value(150.0),
+        ..Default::default()
+    }));
+    for _ in 0..3000 {
+        r.step();
+        assert!(
+            r.axis("F").gap_actual >= 150.0 - 1e-6,
+            "offset-path gap {}",
+            r.axis("F").gap_actual
+        );
+    }
+    assert_eq!(r.cmd_state(f), CommandState::Active, "blocked");
+    assert!(
+        (r.axis("F").gap_actual - 150.0).abs() < 1e-3,
+        "offset gap 150: {}",
+        r.axis("F").gap_actual
+    );
+    let motor = r.pos("L") - r.pos("F");
+    assert!(
+        (motor - 92.12).abs() < 0.01,
+        "only 92.12 mm apart on the motor path: {motor}"
+    );
+}

@@ -82,7 +82,10 @@ fn run(strategy: SyncStrategy) -> (f64, f64, f64) {
     }
     assert!(m_at_cmd.abs() < 0.5);
     eprintln!("{strategy:?}: max jerk {max_jerk:.0}, peak acc {peak:.0}");
-    assert!(max_jerk <= 100000.0 * (1.0 + 1e-6), "{strategy:?}: sync jerk {max_jerk} > 100000");
+    assert!(
+        max_jerk <= 100000.0 * (1.0 + 1e-6),
+        "{strategy:?}: sync jerk {max_jerk} > 100000"
+    );
     assert_eq!(
         r.cmd_state(id),
         CommandState::Active,

@@ -142,9 +142,10 @@ impl CaGroups {
         // Diagnostics (§8.7).
         for k in 0..gr.n() {
             let target = gr.eff_gap(k);
+            let gap = gr.gap_measured(k, axes);
             let m = &mut gr.members[k];
-            if m.gap.is_finite() {
-                m.min_margin = m.min_margin.min(m.gap - target);
+            if gap.is_finite() {
+                m.min_margin = m.min_margin.min(gap - target);
             }
         }
     }
@@ -347,6 +348,24 @@ impl CaGroup {
                 let ls = axes[self.members[l].axis].set;
                 let xl = s.pos + self.members[k].gap;
                 let dl = self.members[l].dynamics.max_d;
+                let y = self.comp_y(k);
+                if y > 0.0 {
+                    // Compensated successor: the gap lies on its offset path; Standard rule
+                    // with the predecessor mapped to that path (§5.9).
+                    let x = if moving_back(ls) {
+                        stop_point_back(
+                            Kin { x: xl, ..kin(ls) },
+                            self.members[l].d_b,
+                            self.members[l].j_b,
+                        )
+                    } else {
+                        xl
+                    };
+                    return Bound {
+                        pos_bound: f64::INFINITY,
+                        stop_bound: self.offset_shift(y, x, -g),
+                    };
+                }
                 if moving_back(ls) {
                     let sp = stop_point_back(
                         Kin { x: xl, ..kin(ls) },
@@ -383,6 +402,22 @@ impl CaGroup {
                 let bs = axes[self.members[b].axis].set;
                 let xb = s.pos - self.members[b].gap;
                 let db = self.members[b].dynamics.max_d;
+                let y = self.comp_y(b);
+                if y > 0.0 {
+                    let x = if moving_fwd(bs) {
+                        stop_point(
+                            Kin { x: xb, ..kin(bs) },
+                            self.members[b].d_b,
+                            self.members[b].j_b,
+                        )
+                    } else {
+                        xb
+                    };
+                    return Bound {
+                        pos_bound: f64::INFINITY,
+                        stop_bound: -self.offset_shift(y, x, g),
+                    };
+                }
                 if moving_fwd(bs) {
                     let sp = stop_point(
                         Kin { x: xb, ..kin(bs) },

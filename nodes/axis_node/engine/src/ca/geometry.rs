@@ -201,6 +201,18 @@ impl CaGeometry {
         k * l + u
     }
 
+    /// Motor coordinate `x` → offset-path coordinate of a template with shift `y` (§5.9).
+    pub fn to_offset(&self, l: f64, y: f64, x: f64) -> f64 {
+        let off = self.rail_offset;
+        self.sigma(x + off, l, y) - self.sigma(off, l, y)
+    }
+
+    /// Offset-path coordinate `s` (shift `y`) → motor coordinate (inverse of `to_offset`).
+    pub fn from_offset(&self, l: f64, y: f64, s: f64) -> f64 {
+        let off = self.rail_offset;
+        self.sigma_inv(s + self.sigma(off, l, y), l, y) - off
+    }
+
     /// MC_TransformPosition (§5.9): `origin` → `destination` coordinate (OID 0 = motor path).
     pub fn transform(
         &self,

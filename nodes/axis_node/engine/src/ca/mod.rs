@@ -313,6 +313,32 @@ impl CaGroup {
         }
     }
 
+    /// Offset of member `k`'s registered, active mover template (0: motor path, §1.13).
+    fn comp_y(&self, k: usize) -> f64 {
+        match self.members[k].compensation {
+            0 => 0.0,
+            oid => self.cfg.geometry.y_shift(oid).unwrap_or(0.0),
+        }
+    }
+
+    /// Motor position `d` further along the offset path of shift `y` from motor position `x`.
+    fn offset_shift(&self, y: f64, x: f64, d: f64) -> f64 {
+        let (geo, l) = (&self.cfg.geometry, self.cfg.rail_length);
+        geo.from_offset(l, y, geo.to_offset(l, y, x) + d)
+    }
+
+    /// Pair gap of member `k` as CA measures it: on the offset path of a compensated axis.
+    fn gap_measured(&self, k: usize, axes: &[Axis]) -> f64 {
+        let m = &self.members[k];
+        let y = self.comp_y(k);
+        if y == 0.0 || !m.gap.is_finite() {
+            return m.gap;
+        }
+        let (geo, l) = (&self.cfg.geometry, self.cfg.rail_length);
+        let x = axes[m.axis].set.pos;
+        geo.to_offset(l, y, x + m.gap) - geo.to_offset(l, y, x)
+    }
+
     fn all_standing(&self, axes: &[Axis]) -> bool {
         self.members.iter().all(|m| {
             let s = axes[m.axis].set;
@@ -491,9 +517,9 @@ impl CaGroups {
                             acceleration: a.set.acc,
                             active_command_id: m.job.owner(),
                             gap_target: target,
-                            gap_actual: m.gap,
+                            gap_actual: g.gap_measured(k, axes),
                             ca_limited: m.ca_limited,
-                            gap_violation: m.gap < target - EPS,
+                            gap_violation: g.gap_measured(k, axes) < target - EPS,
                             min_gap_margin: m.min_margin,
                             track_id: m.track,
                             compensation_id: m.compensation,
