@@ -234,3 +234,45 @@ fn compensated_follower_keeps_its_gap_on_the_offset_path_in_a_curve() {
         "only 92.12 mm apart on the motor path: {motor}"
     );
 }
+
+#[test]
+fn position_reference_system_offset_path_targets() {
+    let mut r = CaRig::new(&[("A", 0.0)], cfg());
+    let mv = |prs: u32| MoveAbsoluteCa {
+        axis: "A".into(),
+        position: McLreal::Value(1407.080),
+        velocity: McLreal::Value(1000.0),
+        position_reference_system: prs,
+        ..Default::default()
+    };
+    assert_eq!(
+        r.err(CaCommand::MoveAbsolute(mv(TPL))),
+        COMPENSATION_ERROR,
+        "not registered"
+    );
+    r.ok(CaCommand::RegisterCompensation {
+        axis: "A".into(),
+        compensation_type: 1,
+        compensation_id: TPL,
+    });
+    let id = r.ok(CaCommand::MoveAbsolute(mv(TPL)));
+    r.until(5000, |r| r.cmd_state(id) == CommandState::Done);
+    assert!(
+        (r.pos("A") - 1250.0).abs() < 1e-3,
+        "offset 1407.080 = motor 1250: {}",
+        r.pos("A")
+    );
+    let id = r.ok(CaCommand::MoveRelative(MoveRelativeCa {
+        axis: "A".into(),
+        distance: McLreal::Value(1814.159 - 1407.080),
+        velocity: McLreal::Value(1000.0),
+        position_reference_system: TPL,
+        ..Default::default()
+    }));
+    r.until(5000, |r| r.cmd_state(id) == CommandState::Done);
+    assert!(
+        (r.pos("A") - 1500.0).abs() < 1e-2,
+        "offset 1814.159 = motor 1500: {}",
+        r.pos("A")
+    );
+}

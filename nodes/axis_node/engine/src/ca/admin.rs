@@ -210,6 +210,25 @@ impl CaGroups {
                         }
                     }
                 };
+                // A template reference system: Position is an offset-path coordinate (§5.9).
+                let p = match c.position_reference_system {
+                    0 => p,
+                    oid => {
+                        let path = self.groups[g].reference_path(k, oid)?;
+                        if c.direction == CaDirection::NonModulo {
+                            path.from_offset(p)
+                        } else {
+                            let lap = path.to_offset(cfg.rail_length);
+                            if !(0.0..=lap).contains(&p) {
+                                return Err(rej(
+                                    err::INVALID_TARGET_POSITION,
+                                    format!("modulo offset-path target {p} outside [0, {lap}]"),
+                                ));
+                            }
+                            path.from_offset(p).rem_euclid(cfg.rail_length)
+                        }
+                    }
+                };
                 let x0 = axes[self.groups[g].members[k].axis].set.pos;
                 let target = modulo::target(
                     x0,
@@ -249,7 +268,10 @@ impl CaGroups {
                 };
                 let req = Request {
                     owner: None,
-                    goal: Goal::Relative(d),
+                    goal: match c.position_reference_system {
+                        0 => Goal::Relative(d),
+                        oid => Goal::RelativeOffset(d, self.groups[g].reference_path(k, oid)?),
+                    },
                     dy,
                     gap,
                     mode: c.gap_control_mode,

@@ -307,6 +307,10 @@ pub(super) fn activate(req: Request, x: f64) -> Job {
     match req.goal {
         Goal::Absolute(t) => Job::Position { req, target: t },
         Goal::Relative(d) => Job::Position { req, target: x + d },
+        Goal::RelativeOffset(d, p) => Job::Position {
+            req,
+            target: p.from_offset(p.to_offset(x) + d),
+        },
         Goal::Brake => Job::Brake { req },
         Goal::Gear(gear) => Job::Gear { req, gear },
     }

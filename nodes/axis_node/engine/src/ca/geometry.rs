@@ -156,17 +156,76 @@ impl CaGeometry {
         }
     }
 
-    /// Offset-path length of one lap of a template with shift `y` [mm].
-    fn lap(&self, l: f64, y: f64) -> f64 {
-        l + 2.0 * PI * y
+    /// The offset path of a template with shift `y` on a rail of length `l`.
+    pub fn path(&self, l: f64, y: f64) -> OffsetPath {
+        OffsetPath {
+            rail_length: l,
+            curve_arc_length: self.curve_arc_length,
+            rail_offset: self.rail_offset,
+            y_shift: y,
+        }
     }
 
-    /// `Σ_y(u)`: offset-path arclength at motor arclength `u` from the fixed origin (§5.9),
-    /// periodic with one offset lap per rail lap.
-    fn sigma(&self, u: f64, l: f64, y: f64) -> f64 {
+    /// Motor coordinate `x` → offset-path coordinate of a template with shift `y` (§5.9).
+    pub fn to_offset(&self, l: f64, y: f64, x: f64) -> f64 {
+        self.path(l, y).to_offset(x)
+    }
+
+    /// Offset-path coordinate `s` (shift `y`) → motor coordinate (inverse of `to_offset`).
+    pub fn from_offset(&self, l: f64, y: f64, s: f64) -> f64 {
+        self.path(l, y).from_offset(s)
+    }
+
+    /// MC_TransformPosition (§5.9): `origin` → `destination` coordinate (OID 0 = motor path).
+    pub fn transform(
+        &self,
+        l: f64,
+        origin: u32,
+        destination: u32,
+        x: f64,
+    ) -> Result<f64, Rejection> {
+        let yo = self.y_shift(origin)?;
+        let yd = self.y_shift(destination)?;
+        // Via the motor coordinate.
+        let motor = if origin == 0 {
+            x
+        } else {
+            self.from_offset(l, yo, x)
+        };
+        Ok(if destination == 0 {
+            motor
+        } else {
+            self.to_offset(l, yd, motor)
+        })
+    }
+}
+
+/// One offset (tool-centre) path of the starter-kit layout (§3.4, §5.9): plain numbers, `Copy`,
+/// so a command can carry it. No alloc.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OffsetPath {
+    /// Rail length L \[mm\].
+    pub rail_length: f64,
+    /// Motor-path length C of one 180° curve \[mm\].
+    pub curve_arc_length: f64,
+    /// Zero shift \[mm\].
+    pub rail_offset: f64,
+    /// Template y-shift \[mm\].
+    pub y_shift: f64,
+}
+
+impl OffsetPath {
+    /// Offset-path length of one lap \[mm\].
+    fn lap(&self) -> f64 {
+        self.rail_length + 2.0 * PI * self.y_shift
+    }
+
+    /// `Σ_y(u)`: offset arclength at motor arclength `u` from the fixed origin, periodic with
+    /// one offset lap per rail lap.
+    fn sigma(&self, u: f64) -> f64 {
+        let (l, c, y) = (self.rail_length, self.curve_arc_length, self.y_shift);
         let k = (u / l).floor();
         let r = u - k * l;
-        let c = self.curve_arc_length;
         let ls = (l - 2.0 * c) / 2.0;
         let theta = if r < ls {
             0.0
@@ -177,15 +236,15 @@ impl CaGeometry {
         } else {
             PI + PI * (r - 2.0 * ls - c) / c
         };
-        k * self.lap(l, y) + r + y * theta
+        k * self.lap() + r + y * theta
     }
 
     /// Inverse of `sigma` (piecewise linear).
-    fn sigma_inv(&self, s: f64, l: f64, y: f64) -> f64 {
-        let lt = self.lap(l, y);
+    fn sigma_inv(&self, s: f64) -> f64 {
+        let (l, c, y) = (self.rail_length, self.curve_arc_length, self.y_shift);
+        let lt = self.lap();
         let k = (s / lt).floor();
         let r = s - k * lt;
-        let c = self.curve_arc_length;
         let ls = (l - 2.0 * c) / 2.0;
         let slope = if c > 0.0 { (c + PI * y) / c } else { 1.0 };
         let curve = c + PI * y;
@@ -201,39 +260,15 @@ impl CaGeometry {
         k * l + u
     }
 
-    /// Motor coordinate `x` → offset-path coordinate of a template with shift `y` (§5.9).
-    pub fn to_offset(&self, l: f64, y: f64, x: f64) -> f64 {
+    /// Motor coordinate → offset-path coordinate (same physical zero).
+    pub fn to_offset(&self, x: f64) -> f64 {
         let off = self.rail_offset;
-        self.sigma(x + off, l, y) - self.sigma(off, l, y)
+        self.sigma(x + off) - self.sigma(off)
     }
 
-    /// Offset-path coordinate `s` (shift `y`) → motor coordinate (inverse of `to_offset`).
-    pub fn from_offset(&self, l: f64, y: f64, s: f64) -> f64 {
+    /// Offset-path coordinate → motor coordinate.
+    pub fn from_offset(&self, s: f64) -> f64 {
         let off = self.rail_offset;
-        self.sigma_inv(s + self.sigma(off, l, y), l, y) - off
-    }
-
-    /// MC_TransformPosition (§5.9): `origin` → `destination` coordinate (OID 0 = motor path).
-    pub fn transform(
-        &self,
-        l: f64,
-        origin: u32,
-        destination: u32,
-        x: f64,
-    ) -> Result<f64, Rejection> {
-        let yo = self.y_shift(origin)?;
-        let yd = self.y_shift(destination)?;
-        let off = self.rail_offset;
-        // To the motor coordinate.
-        let motor = if origin == 0 {
-            x
-        } else {
-            self.sigma_inv(x + self.sigma(off, l, yo), l, yo) - off
-        };
-        Ok(if destination == 0 {
-            motor
-        } else {
-            self.sigma(motor + off, l, yd) - self.sigma(off, l, yd)
-        })
+        self.sigma_inv(s + self.sigma(off)) - off
     }
 }

@@ -80,6 +80,8 @@ struct Dyn {
 enum Goal {
     Absolute(f64),
     Relative(f64),
+    /// Distance on a template's offset path (PositionReferenceSystem, §5.9).
+    RelativeOffset(f64, geometry::OffsetPath),
     Brake,
     Gear(Gear),
 }
@@ -337,6 +339,19 @@ impl CaGroup {
         let (geo, l) = (&self.cfg.geometry, self.cfg.rail_length);
         let x = axes[m.axis].set.pos;
         geo.to_offset(l, y, x + m.gap) - geo.to_offset(l, y, x)
+    }
+
+    /// The offset path of a PositionReferenceSystem OID for member `k`: it must be the
+    /// axis' registered, active template (§5.2.2, §7.2 COMPENSATION_ERROR).
+    fn reference_path(&self, k: usize, oid: u32) -> Result<geometry::OffsetPath, Rejection> {
+        if self.members[k].compensation != oid {
+            return Err(rej(
+                err::COMPENSATION_ERROR,
+                format!("PositionReferenceSystem {oid:#x} is not registered for this axis"),
+            ));
+        }
+        let y = self.cfg.geometry.y_shift(oid)?;
+        Ok(self.cfg.geometry.path(self.cfg.rail_length, y))
     }
 
     fn all_standing(&self, axes: &[Axis]) -> bool {

@@ -330,6 +330,9 @@ pub struct MoveAbsoluteCa {
     pub gap_control_mode: GapControlMode,
     /// Options.AdditionalTurns (Positive/Negative only).
     pub additional_turns: u32,
+    /// Options.PositionReferenceSystem: 0 = motor path; a registered template OID = Position
+    /// is an offset-path coordinate (§5.9; modulo directions: modulo the offset lap).
+    pub position_reference_system: u32,
 }
 
 /// MC_MoveRelativeCA (§5.3).
@@ -355,6 +358,8 @@ pub struct MoveRelativeCa {
     pub buffer_mode: CaBufferMode,
     /// Options.GapControlMode.
     pub gap_control_mode: GapControlMode,
+    /// Options.PositionReferenceSystem: a registered template OID = Distance on its offset path.
+    pub position_reference_system: u32,
 }
 
 /// MC_HaltCA (§5.4): always aborting.
