@@ -276,3 +276,45 @@ fn position_reference_system_offset_path_targets() {
         r.pos("A")
     );
 }
+
+#[test]
+fn dynamics_reference_system_limits_the_offset_path_velocity() {
+    let mut r = CaRig::new(&[("A", 500.0)], cfg());
+    r.ok(CaCommand::RegisterCompensation {
+        axis: "A".into(),
+        compensation_type: 1,
+        compensation_id: TPL,
+    });
+    let id = r.ok(CaCommand::MoveAbsolute(MoveAbsoluteCa {
+        axis: "A".into(),
+        position: McLreal::Value(2500.0),
+        velocity: McLreal::Value(500.0),
+        dynamics_reference_system: TPL,
+        ..Default::default()
+    }));
+    let slope = (500.0 + std::f64::consts::PI * 100.0) / 500.0;
+    let (mut in_curve, mut on_straight) = (false, false);
+    for _ in 0..6000 {
+        r.step();
+        let a = r.axis("A");
+        if (1100.0..1400.0).contains(&a.position) {
+            assert!(
+                (a.velocity - 500.0 / slope).abs() < 1e-6,
+                "curve: TCP at 500, motor {}",
+                a.velocity
+            );
+            in_curve = true;
+        }
+        if (1600.0..2000.0).contains(&a.position) {
+            assert!(
+                (a.velocity - 500.0).abs() < 1e-6,
+                "straight: motor 500: {}",
+                a.velocity
+            );
+            on_straight = true;
+        }
+    }
+    assert!(in_curve && on_straight);
+    assert_eq!(r.cmd_state(id), CommandState::Done);
+    assert!((r.pos("A") - 2500.0).abs() < 1e-6);
+}

@@ -248,6 +248,7 @@ impl CaGroups {
                     gap,
                     mode: c.gap_control_mode,
                     continuous_update: c.continuous_update,
+                    dyn_path: self.groups[g].dyn_path(k, c.dynamics_reference_system)?,
                 };
                 self.start(g, k, req, c.buffer_mode, CaFbKind::MoveAbsolute, axes, fbs)
             }
@@ -276,6 +277,7 @@ impl CaGroups {
                     gap,
                     mode: c.gap_control_mode,
                     continuous_update: c.continuous_update,
+                    dyn_path: self.groups[g].dyn_path(k, c.dynamics_reference_system)?,
                 };
                 self.start(g, k, req, c.buffer_mode, CaFbKind::MoveRelative, axes, fbs)
             }
@@ -298,6 +300,7 @@ impl CaGroups {
                     gap,
                     mode: c.gap_control_mode,
                     continuous_update: false,
+                    dyn_path: self.groups[g].dyn_path(k, c.dynamics_reference_system)?,
                 };
                 self.start(g, k, req, CaBufferMode::Aborting, CaFbKind::Halt, axes, fbs)
             }
@@ -403,6 +406,7 @@ impl CaGroups {
                     gap,
                     mode: c.gap_control_mode,
                     continuous_update: c.continuous_update,
+                    dyn_path: None,
                 };
                 self.start(g, k, req, c.buffer_mode, CaFbKind::GearInPos, axes, fbs)
             }
@@ -735,6 +739,7 @@ impl CaGroups {
                         gap: m.last_gap,
                         mode: GapControlMode::GroupDefault,
                         continuous_update: false,
+                        dyn_path: None,
                     },
                 };
             }

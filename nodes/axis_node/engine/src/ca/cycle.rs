@@ -45,6 +45,7 @@ impl CaGroups {
                         gap: m.last_gap,
                         mode: GapControlMode::GroupDefault,
                         continuous_update: false,
+                        dyn_path: None,
                     },
                 };
             }
@@ -542,7 +543,35 @@ impl CaGroup {
             m.d_ca = m.d_ca.max(dcmd);
             m.j_ca = m.j_ca.max(dy.j);
         }
-        let fs = if sg > 0.0 { kin(s) } else { kin(s).mirror() };
+        // DynamicsReferenceSystem: the step is planned on the template's offset path; the
+        // motor follows (velocity steps at the curve boundaries are accepted, §5.9).
+        let path = job.req().and_then(|r| r.dyn_path);
+        let (ks, target, c4) = match path {
+            None => (kin(s), target, c4),
+            Some(p) => {
+                let k = p.slope(s.pos);
+                let map = |fx: f64| {
+                    if fx.is_finite() {
+                        sg * p.to_offset(sg * fx)
+                    } else {
+                        fx
+                    }
+                };
+                (
+                    Kin {
+                        x: p.to_offset(s.pos),
+                        v: s.vel * k,
+                        a: s.acc * k,
+                    },
+                    target.map(map),
+                    c4.map(|b| Bound {
+                        pos_bound: map(b.pos_bound),
+                        stop_bound: map(b.stop_bound),
+                    }),
+                )
+            }
+        };
+        let fs = if sg > 0.0 { ks } else { ks.mirror() };
         let out = planner::step(&StepIn {
             s: fs,
             vmax: dy.v.min(ad.max_v),
@@ -555,7 +584,16 @@ impl CaGroup {
             c4,
             t: dt,
         });
-        let e = if sg > 0.0 { out.s } else { out.s.mirror() };
+        let mut e = if sg > 0.0 { out.s } else { out.s.mirror() };
+        if let Some(p) = path {
+            let x = p.from_offset(e.x);
+            let k = p.slope(x);
+            e = Kin {
+                x,
+                v: e.v / k,
+                a: e.a / k,
+            };
+        }
         m.ca_limited = out.ca_limited;
         m.d_b = out.d_b;
         m.j_b = out.j_b;

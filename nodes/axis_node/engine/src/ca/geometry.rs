@@ -260,6 +260,19 @@ impl OffsetPath {
         k * l + u
     }
 
+    /// dΣ/dx at motor position `x`: 1 on the straights, (C + πy)/C in the curves.
+    pub fn slope(&self, x: f64) -> f64 {
+        let (l, c) = (self.rail_length, self.curve_arc_length);
+        let r = (x + self.rail_offset).rem_euclid(l);
+        let ls = (l - 2.0 * c) / 2.0;
+        let curve = (ls..ls + c).contains(&r) || r >= 2.0 * ls + c;
+        if curve && c > 0.0 {
+            (c + PI * self.y_shift) / c
+        } else {
+            1.0
+        }
+    }
+
     /// Motor coordinate → offset-path coordinate (same physical zero).
     pub fn to_offset(&self, x: f64) -> f64 {
         let off = self.rail_offset;

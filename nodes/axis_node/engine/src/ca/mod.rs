@@ -94,6 +94,8 @@ struct Request {
     gap: f64,
     mode: GapControlMode,
     continuous_update: bool,
+    /// DynamicsReferenceSystem: plan on this offset path (§5.9); None = motor path.
+    dyn_path: Option<geometry::OffsetPath>,
 }
 
 /// The active job of a member.
@@ -352,6 +354,14 @@ impl CaGroup {
         }
         let y = self.cfg.geometry.y_shift(oid)?;
         Ok(self.cfg.geometry.path(self.cfg.rail_length, y))
+    }
+
+    /// DynamicsReferenceSystem of member `k` (0 = motor path).
+    fn dyn_path(&self, k: usize, oid: u32) -> Result<Option<geometry::OffsetPath>, Rejection> {
+        match oid {
+            0 => Ok(None),
+            oid => self.reference_path(k, oid).map(Some),
+        }
     }
 
     fn all_standing(&self, axes: &[Axis]) -> bool {

@@ -333,6 +333,9 @@ pub struct MoveAbsoluteCa {
     /// Options.PositionReferenceSystem: 0 = motor path; a registered template OID = Position
     /// is an offset-path coordinate (§5.9; modulo directions: modulo the offset lap).
     pub position_reference_system: u32,
+    /// Options.DynamicsReferenceSystem: a registered template OID = Velocity/Acc/Dec/Jerk
+    /// apply on its offset path (§5.9).
+    pub dynamics_reference_system: u32,
 }
 
 /// MC_MoveRelativeCA (§5.3).
@@ -360,6 +363,8 @@ pub struct MoveRelativeCa {
     pub gap_control_mode: GapControlMode,
     /// Options.PositionReferenceSystem: a registered template OID = Distance on its offset path.
     pub position_reference_system: u32,
+    /// Options.DynamicsReferenceSystem (see [`MoveAbsoluteCa`]).
+    pub dynamics_reference_system: u32,
 }
 
 /// MC_HaltCA (§5.4): always aborting.
@@ -375,6 +380,8 @@ pub struct HaltCa {
     pub gap: McLreal,
     /// Options.GapControlMode.
     pub gap_control_mode: GapControlMode,
+    /// Options.DynamicsReferenceSystem (see [`MoveAbsoluteCa`]).
+    pub dynamics_reference_system: u32,
 }
 
 /// MC_GearInPosCA (§5.5): the slave (a CA group axis) follows
