@@ -290,3 +290,60 @@ fn sync_mode_positive_takes_the_next_occurrence_on_a_ring() {
         "s* = 3100 + (m − 1000)"
     );
 }
+
+fn accelerate_master(r: &mut CaRig) {
+    r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
+        axis: "MA".into(),
+        velocity: 1500.0,
+        acceleration: 10000.0,
+        deceleration: 10000.0,
+        jerk: 100000.0,
+        direction: axis_engine::Direction::Positive,
+        buffer_mode: axis_engine::BufferMode::Aborting,
+        options: Default::default(),
+    }))
+    .unwrap();
+}
+
+fn late(r: &mut CaRig, override_restrictions: bool) -> CmdId {
+    r.ok(CaCommand::GearInPos(GearInPosCa {
+        master: "MA".into(),
+        slave: "S".into(),
+        ratio_denumerator: 1,
+        master_sync_position: McLreal::Value(1000.0),
+        slave_sync_position: McLreal::Value(1400.0),
+        sync_strategy: SyncStrategy::Late,
+        velocity: McLreal::Value(1500.0),
+        acceleration: McLreal::Value(10000.0),
+        deceleration: McLreal::Value(10000.0),
+        jerk: McLreal::Value(100000.0),
+        override_slave_dynamic_restrictions: override_restrictions,
+        ..Default::default()
+    }))
+}
+
+#[test]
+fn late_master_accelerating_during_sync_is_slave_cannot_sync() {
+    let mut r = rig();
+    let id = late(&mut r, false);
+    r.until(3000, |r| {
+        r.e.ca_groups().gear_outputs(id).unwrap().start_sync
+    });
+    accelerate_master(&mut r);
+    r.until(3000, |r| r.cmd_state(id) != CommandState::Active);
+    assert_eq!(r.cmd_state(id), CommandState::Error(SLAVE_CANNOT_SYNC));
+}
+
+#[test]
+fn late_with_override_slave_dynamic_restrictions_keeps_the_cam() {
+    let mut r = rig();
+    let id = late(&mut r, true);
+    r.until(3000, |r| {
+        r.e.ca_groups().gear_outputs(id).unwrap().start_sync
+    });
+    accelerate_master(&mut r);
+    r.until(3000, |r| r.e.ca_groups().gear_outputs(id).unwrap().in_sync);
+    assert_eq!(r.cmd_state(id), CommandState::Active);
+    let m = r.e.status("MA").unwrap().set_pos;
+    assert!((r.pos("S") - (m + 400.0)).abs() < 1e-6);
+}

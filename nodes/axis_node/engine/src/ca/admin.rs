@@ -394,6 +394,7 @@ impl CaGroups {
                     strategy: c.sync_strategy,
                     started: false,
                     start_distance,
+                    keep_cam: c.override_slave_dynamic_restrictions,
                     in_sync: false,
                     failed: false,
                     cam: None,

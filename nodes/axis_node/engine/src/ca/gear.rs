@@ -13,6 +13,8 @@ pub(super) struct Gear {
     pub(super) started: bool,
     /// MasterStartDistance (None = start when Active).
     pub(super) start_distance: Option<f64>,
+    /// OverrideSlaveDynamicRestrictions: keep the cam when the master velocity changes.
+    pub(super) keep_cam: bool,
     pub(super) in_sync: bool,
     pub(super) failed: bool,
     pub(super) cam: Option<Cam>,
@@ -27,6 +29,8 @@ pub(super) struct Cam {
     pub(super) m0: f64,
     pub(super) h: f64,
     pub(super) c: [f64; 6],
+    /// Master velocity the cam was planned for \[mm/s\].
+    pub(super) mv: f64,
 }
 
 impl Cam {
@@ -46,6 +50,7 @@ impl Cam {
             m0,
             h,
             c: [c0, c1, c2, c3, c4, c5],
+            mv,
         })
     }
 
@@ -159,7 +164,19 @@ impl CaGroup {
                     _ => gear.strategy = SyncStrategy::Early,
                 }
             }
+            // Late/Slow without OverrideSlaveDynamicRestrictions: a changed master velocity
+            // re-plans the cam from the current state; infeasible ⇒ SLAVE_CANNOT_SYNC.
             if let Some(c) = gear.cam {
+                if !gear.keep_cam && (mv0 - c.mv).abs() > 1e-6 && m0 < gear.msp {
+                    match Cam::new(m0, s, mv0, gear.msp, gear.ssp, r) {
+                        Some(n) if n.feasible(mv0, &dy) => gear.cam = Some(n),
+                        _ => gear.failed = true,
+                    }
+                }
+            }
+            if gear.failed {
+                s
+            } else if let Some(c) = gear.cam {
                 if m1 >= gear.msp {
                     gear.in_sync = true;
                     coupled

@@ -428,6 +428,10 @@ pub struct GearInPosCa {
     pub forbid_master_velocity_undershoot: bool,
     /// Options.MasterVelocityOvershootAllowed, negated. Validated only (see above).
     pub forbid_master_velocity_overshoot: bool,
+    /// Options.OverrideSlaveDynamicRestrictions (Late/Slow): TRUE keeps the cam over the
+    /// master position when the master velocity changes (may exceed the FB dynamics); FALSE
+    /// re-plans it and fails with SLAVE_CANNOT_SYNC when no feasible cam exists.
+    pub override_slave_dynamic_restrictions: bool,
 }
 
 /// StartSync / InSync of an MC_GearInPosCA instance.
