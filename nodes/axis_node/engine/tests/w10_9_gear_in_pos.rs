@@ -347,3 +347,42 @@ fn late_with_override_slave_dynamic_restrictions_keeps_the_cam() {
     let m = r.e.status("MA").unwrap().set_pos;
     assert!((r.pos("S") - (m + 400.0)).abs() < 1e-6);
 }
+
+#[test]
+fn after_sync_velocity_limits_the_coupled_slave() {
+    let mut r = rig();
+    let id = r.ok(CaCommand::GearInPos(GearInPosCa {
+        master: "MA".into(),
+        slave: "S".into(),
+        ratio_denumerator: 1,
+        master_sync_position: McLreal::Value(1000.0),
+        slave_sync_position: McLreal::Value(1400.0),
+        sync_strategy: SyncStrategy::Early,
+        velocity: McLreal::Value(1500.0),
+        after_sync_velocity: McLreal::Value(600.0),
+        ..Default::default()
+    }));
+    r.until(3000, |r| r.e.ca_groups().gear_outputs(id).unwrap().in_sync);
+    accelerate_master(&mut r);
+    let mut dropped = false;
+    for _ in 0..1000 {
+        r.step();
+        let o = r.e.ca_groups().gear_outputs(id).unwrap();
+        dropped |= !o.in_sync;
+        // §8.2 G2: velocity within the limit, relative tolerance 1e-5.
+        assert!(
+            r.axis("S").velocity <= 600.0 * (1.0 + 1e-5),
+            "v {}",
+            r.axis("S").velocity
+        );
+    }
+    assert!(
+        dropped,
+        "InSync drops when the master outruns the after-sync velocity"
+    );
+    assert_eq!(
+        r.cmd_state(id),
+        CommandState::Active,
+        "keeps trying (no Done, no Error)"
+    );
+}

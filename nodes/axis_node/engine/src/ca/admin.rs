@@ -386,6 +386,41 @@ impl CaGroups {
                 let ad = self.groups[g].members[k].dynamics;
                 let dy = resolve_move(&ad, c.velocity, c.acceleration, c.deceleration, c.jerk)?;
                 let gap = self.resolve_gap(g, c.gap)?;
+                let after_default = match self.groups[g].cfg.gear_in_pos_default_dynamics_after_sync
+                {
+                    DynamicsAfterSync::JobDynamics => dy,
+                    DynamicsAfterSync::MaximumSlaveDynamics => Dyn {
+                        v: ad.max_v,
+                        a: ad.max_a,
+                        d: ad.max_d,
+                        j: JERK_UNLIMITED,
+                    },
+                };
+                let after = Dyn {
+                    v: match c.after_sync_velocity {
+                        McLreal::Unset | McLreal::Default => after_default.v,
+                        McLreal::Maximum => ad.max_v,
+                        McLreal::Value(v) if v.is_finite() && v > 0.0 => v.min(ad.max_v),
+                        other => {
+                            return Err(rej(
+                                err::INVALID_VELOCITY,
+                                format!("{fb}.AfterSyncVelocity = {other:?}"),
+                            ))
+                        }
+                    },
+                    a: match c.after_sync_acceleration {
+                        McLreal::Unset | McLreal::Default => after_default.a,
+                        x => resolve_acc(x, ad.def_a, ad.max_a, "AfterSyncAcceleration")?,
+                    },
+                    d: match c.after_sync_deceleration {
+                        McLreal::Unset | McLreal::Default => after_default.d,
+                        x => resolve_acc(x, ad.def_d, ad.max_d, "AfterSyncDeceleration")?,
+                    },
+                    j: match c.after_sync_jerk {
+                        McLreal::Unset | McLreal::Default => after_default.j,
+                        x => resolve_jerk(x, ad.def_j, ad.max_j, false)?,
+                    },
+                };
                 let gear = Gear {
                     master,
                     ratio: num / c.ratio_denumerator as f64,
@@ -395,6 +430,8 @@ impl CaGroups {
                     started: false,
                     start_distance,
                     keep_cam: c.override_slave_dynamic_restrictions,
+                    after,
+                    ever_in_sync: false,
                     in_sync: false,
                     failed: false,
                     cam: None,

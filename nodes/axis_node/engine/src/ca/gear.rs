@@ -15,6 +15,10 @@ pub(super) struct Gear {
     pub(super) start_distance: Option<f64>,
     /// OverrideSlaveDynamicRestrictions: keep the cam when the master velocity changes.
     pub(super) keep_cam: bool,
+    /// After-sync limits (§5.5.2, §5.5.4).
+    pub(super) after: Dyn,
+    /// Has been InSync once (after-sync limits apply from then on).
+    pub(super) ever_in_sync: bool,
     pub(super) in_sync: bool,
     pub(super) failed: bool,
     pub(super) cam: Option<Cam>,
@@ -119,10 +123,31 @@ impl CaGroup {
             vel: r * mv1,
             acc: r * ma,
         };
-        let dy = Dyn {
-            v: req.dy.v * self.ovr_actual,
-            ..req.dy
+        let dy = if gear.ever_in_sync {
+            gear.after
+        } else {
+            Dyn {
+                v: req.dy.v * self.ovr_actual,
+                ..req.dy
+            }
         };
+        // InSync: the coupled law within the after-sync limits, else resync (Early-style).
+        if gear.in_sync {
+            let a = &gear.after;
+            let tol = 1.0 + 1e-9;
+            // Velocity with the acceleration ramped out at the after-sync jerk (as C2).
+            let v_end = coupled.vel + coupled.acc * coupled.acc.abs() / (2.0 * a.j);
+            let within = coupled.vel.abs() <= a.v * tol
+                && v_end.abs() <= a.v * tol
+                && coupled.acc <= a.a * tol
+                && -coupled.acc <= a.d * tol
+                && (coupled.acc - s.acc).abs() <= a.j * dt * tol;
+            if !within {
+                gear.in_sync = false;
+                gear.cam = None;
+                gear.strategy = SyncStrategy::Early;
+            }
+        }
         // MasterStartDistance: a standing slave waits until the master passes the start point.
         if let Some(d) = gear.start_distance {
             let start = gear.msp - d;
@@ -190,47 +215,78 @@ impl CaGroup {
                 }
             } else if gear.strategy == SyncStrategy::Early || gear.started {
                 gear.started = true;
-                // Early: jerk-limited tracking of s*(t) in the relative frame.
-                let rel = Kin {
-                    x: s.pos - star(m0),
-                    v: s.vel - r * mv0,
-                    a: s.acc - r * ma,
-                };
-                let sgr = if rel.v > 0.0
-                    || (rel.v == 0.0 && (rel.a > 0.0 || (rel.a == 0.0 && rel.x < 0.0)))
-                {
-                    1.0
-                } else {
-                    -1.0
-                };
-                let vmax = (dy.v - sgr * r * mv0).max(0.0);
-                let o = planner::step(&StepIn {
-                    s: if sgr > 0.0 { rel } else { rel.mirror() },
-                    vmax,
-                    amax: dy.a,
-                    dmax: dy.d,
-                    jmax: dy.j,
-                    target: Some(0.0),
-                    d_ca: dy.d,
-                    j_ca: dy.j,
-                    c4: None,
-                    t: dt,
-                });
-                let e = if sgr > 0.0 { o.s } else { o.s.mirror() };
-                if e.x.abs() <= 1e-3 && e.v.abs() <= 1e-3 {
-                    gear.in_sync = true;
-                    coupled
-                } else {
+                // Early: jerk-limited tracking of s*(t) in the relative frame; a target
+                // faster than the slave may go (or an accelerating master after a loss of
+                // sync) is chased in the absolute frame within the slave's limits.
+                let outrun = (r * mv1).abs() >= dy.v * (1.0 - 1e-9);
+                if outrun || ((r * ma).abs() > 1e-9 && gear.ever_in_sync) {
+                    let sga = frame_sign(s, &Job::Idle, 0.0)
+                        * if coupled.pos < s.pos && s.vel == 0.0 && s.acc == 0.0 {
+                            -1.0
+                        } else {
+                            1.0
+                        };
+                    let o = planner::step(&StepIn {
+                        s: if sga > 0.0 { kin(s) } else { kin(s).mirror() },
+                        vmax: dy.v,
+                        amax: dy.a,
+                        dmax: dy.d,
+                        jmax: dy.j,
+                        target: Some(coupled.pos * sga),
+                        d_ca: dy.d,
+                        j_ca: dy.j,
+                        c4: None,
+                        t: dt,
+                    });
+                    let e = if sga > 0.0 { o.s } else { o.s.mirror() };
                     State1 {
-                        pos: coupled.pos + e.x,
-                        vel: coupled.vel + e.v,
-                        acc: coupled.acc + e.a,
+                        pos: e.x,
+                        vel: e.v,
+                        acc: e.a,
+                    }
+                } else {
+                    let rel = Kin {
+                        x: s.pos - star(m0),
+                        v: s.vel - r * mv0,
+                        a: s.acc - r * ma,
+                    };
+                    let sgr = if rel.v > 0.0
+                        || (rel.v == 0.0 && (rel.a > 0.0 || (rel.a == 0.0 && rel.x < 0.0)))
+                    {
+                        1.0
+                    } else {
+                        -1.0
+                    };
+                    let vmax = (dy.v - sgr * r * mv0).max(0.0);
+                    let o = planner::step(&StepIn {
+                        s: if sgr > 0.0 { rel } else { rel.mirror() },
+                        vmax,
+                        amax: dy.a,
+                        dmax: dy.d,
+                        jmax: dy.j,
+                        target: Some(0.0),
+                        d_ca: dy.d,
+                        j_ca: dy.j,
+                        c4: None,
+                        t: dt,
+                    });
+                    let e = if sgr > 0.0 { o.s } else { o.s.mirror() };
+                    if e.x.abs() <= 1e-3 && e.v.abs() <= 1e-3 {
+                        gear.in_sync = true;
+                        coupled
+                    } else {
+                        State1 {
+                            pos: coupled.pos + e.x,
+                            vel: coupled.vel + e.v,
+                            acc: coupled.acc + e.a,
+                        }
                     }
                 }
             } else {
                 s
             }
         };
+        gear.ever_in_sync |= gear.in_sync;
         // CA outranks the coupling (§1.10).
         let own_mode = self.mode_of(k);
         let sgc = if cand.vel < 0.0 { -1.0 } else { 1.0 };

@@ -148,6 +148,17 @@ ca_enum! {
 }
 
 ca_enum! {
+    /// MC_GearInPosDefaultDynamicsAfterSync (group parameter, §5.5.4).
+    DynamicsAfterSync: "gear_in_pos_default_dynamics_after_sync", errors::INVALID_MODE, {
+        /// 0: slave axis maxima, jerk unlimited.
+        MaximumSlaveDynamics = 0,
+        /// 1 (default): the block's own Velocity/Acceleration/Deceleration/Jerk.
+        #[default]
+        JobDynamics = 1,
+    }
+}
+
+ca_enum! {
     /// MC_SYNC_MODE of MC_GearInPosCA: how SlaveSyncPosition is read on a ring (§5.5.3).
     SyncMode: "SyncMode", errors::INVALID_MODE, {
         /// 0 (preset): absolute slave position.
@@ -225,6 +236,8 @@ pub struct CaGroupConfig {
     pub default_jerk: f64,
     /// Override ramp time \[s\] (≥ 0, §1.11).
     pub override_ramp_time: f64,
+    /// After-sync defaults of MC_GearInPosCA (§5.5.4).
+    pub gear_in_pos_default_dynamics_after_sync: DynamicsAfterSync,
     /// Rail geometry, mover templates, parts and tracks (§3.4).
     pub geometry: super::geometry::CaGeometry,
 }
@@ -244,6 +257,7 @@ impl Default for CaGroupConfig {
             default_deceleration: 5000.0,
             default_jerk: 50000.0,
             override_ramp_time: 0.1,
+            gear_in_pos_default_dynamics_after_sync: DynamicsAfterSync::JobDynamics,
             geometry: super::geometry::CaGeometry::default(),
         }
     }
@@ -428,6 +442,14 @@ pub struct GearInPosCa {
     pub forbid_master_velocity_undershoot: bool,
     /// Options.MasterVelocityOvershootAllowed, negated. Validated only (see above).
     pub forbid_master_velocity_overshoot: bool,
+    /// Options.AfterSyncVelocity (Unset/DEFAULT: per group parameter, §5.5.4).
+    pub after_sync_velocity: McLreal,
+    /// Options.AfterSyncAcceleration.
+    pub after_sync_acceleration: McLreal,
+    /// Options.AfterSyncDeceleration.
+    pub after_sync_deceleration: McLreal,
+    /// Options.AfterSyncJerk.
+    pub after_sync_jerk: McLreal,
     /// Options.OverrideSlaveDynamicRestrictions (Late/Slow): TRUE keeps the cam over the
     /// master position when the master velocity changes (may exceed the FB dynamics); FALSE
     /// re-plans it and fails with SLAVE_CANNOT_SYNC when no feasible cam exists.
