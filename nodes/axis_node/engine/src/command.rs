@@ -944,6 +944,8 @@ pub enum AxisCommand {
     WriteParameterPersistent(WriteParameter),
     /// MC_WriteBoolParameterPersistent (§4.4.9).
     WriteBoolParameterPersistent(WriteBoolParameter),
+    /// A collision-avoidance group block (collision_avoidance.md; [`crate::ca`]).
+    Ca(crate::ca::CaCommand),
 }
 
 /// The outputs of one FB instance ([`AxisCommand::ReadFbOutputs`]).
@@ -984,6 +986,8 @@ pub enum ReplyValue {
     Platform(crate::platform::PlatformReply),
     /// Structured values of the §4.7 / §4.4.3 / §4.4.6 read FBs.
     Extension(Box<ExtensionValue>),
+    /// Values of the CA read/enable blocks ([`crate::ca::CaValue`]).
+    Ca(Box<crate::ca::CaValue>),
 }
 
 /// The answer to an accepted command.
@@ -1065,7 +1069,8 @@ impl AxisCommand {
             | TouchProbePlcEvent { .. }
             | ReadFbOutputs { .. }
             | Group(_)
-            | Platform(_) => return None,
+            | Platform(_)
+            | Ca(_) => return None,
             Sim(s) => match s {
                 self::Sim::InjectAxisError { axis, .. }
                 | self::Sim::DriveFault { axis, .. }

@@ -39,6 +39,8 @@ pub struct AxisEngine {
     tick: u64,
     /// Step order: masters before their slaves (§4.12).
     order: Vec<usize>,
+    /// Collision-avoidance groups (collision_avoidance.md).
+    ca: crate::ca::CaGroups,
 }
 
 fn reject(id: ErrorId, msg: String) -> Rejection {
@@ -191,10 +193,25 @@ impl AxisEngine {
             instant_done: Vec::with_capacity(64),
             tick: 0,
             order,
+            ca: crate::ca::CaGroups::default(),
         };
         e.build_groups(&config.groups)?;
         e.build_platform(config)?;
         Ok(e)
+    }
+
+    /// The collision-avoidance groups (outputs of CA instances, e.g. MC_GearInPosCA's InSync).
+    pub fn ca_groups(&self) -> &crate::ca::CaGroups {
+        &self.ca
+    }
+
+    /// Adds a collision-avoidance group (startup configuration, collision_avoidance.md §3.1).
+    pub fn add_ca_group(
+        &mut self,
+        name: impl Into<String>,
+        cfg: crate::ca::CaGroupConfig,
+    ) -> Result<(), Rejection> {
+        self.ca.add_group(name.into(), cfg)
     }
 
     /// Masters before slaves; recomputed when a coupling is made.
@@ -232,6 +249,7 @@ impl AxisEngine {
     fn axis_status(&self, i: usize, master: bool) -> AxisStatus {
         let mut s = self.axes[i].status();
         s.couple_state = self.couple_state(i, master);
+        self.ca.patch_status(i, &mut s);
         s
     }
 
@@ -258,6 +276,7 @@ impl AxisEngine {
         self.fb_outputs(id)
             .map(|o| o.standard)
             .or_else(|| self.group_outputs(id))
+            .or_else(|| self.ca.outputs(id))
     }
 
     /// All outputs of an instance (incl. InVelocity).
@@ -2217,6 +2236,11 @@ impl AxisEngine {
                 }
                 return self.read_fb_outputs(id);
             }
+            AxisCommand::Ca(c) => {
+                return self
+                    .ca
+                    .command(c, &mut self.axes, &self.index, &mut self.fbs)
+            }
             AxisCommand::HomeCalibrationCam {
                 id,
                 calibration_cam,
@@ -2247,6 +2271,7 @@ impl AxisEngine {
         // Profile hooks (plcopen_platform.md): screening, then bookkeeping of the result.
         self.platform_pre(ax, &mut cmd)?;
         self.group_screen_axis_command(ax, &cmd)?;
+        self.ca.screen_single_axis(ax, &cmd)?;
         let (order, kind) = crate::platform::classify(&cmd);
         // The FBs of engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs.
         let res = if is_axis3(&cmd) {
@@ -2388,7 +2413,8 @@ impl AxisEngine {
             | AxisCommand::TouchProbePlcEvent { .. }
             | AxisCommand::ReadFbOutputs { .. }
             | AxisCommand::Group(_)
-            | AxisCommand::Platform(_) => {
+            | AxisCommand::Platform(_)
+            | AxisCommand::Ca(_) => {
                 unreachable!("handled above")
             }
             AxisCommand::PhasingAbsolute(_)
@@ -2448,6 +2474,7 @@ impl Engine for AxisEngine {
         self.instant_done.clear();
         self.platform_step_pre();
         self.groups_step(tick.dt);
+        self.ca.step(tick.dt, &mut self.axes, &mut self.fbs);
         for k in 0..self.order.len() {
             let i = self.order[k];
             let master = self.axes[i].coupling.map(|c| {
@@ -2498,6 +2525,7 @@ impl Engine for AxisEngine {
                 .map(|g| self.group_status(g))
                 .collect(),
             platform: self.platform_status(),
+            ca_groups: self.ca.snapshot(&self.axes),
         }
     }
 
@@ -2518,6 +2546,9 @@ impl Engine for AxisEngine {
             return r;
         }
         // A cancelled goal halts the axis with the command's own dynamics (MC_Halt semantics).
+        if self.fbs.get(id).is_none() && self.ca.owns(id) {
+            return self.ca.cancel(id, &self.axes, &mut self.fbs);
+        }
         let Some(inst) = self.fbs.get(id).copied() else {
             return Err(reject(
                 ErrorId::UNKNOWN_OBJECT,

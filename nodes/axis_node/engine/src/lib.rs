@@ -68,9 +68,17 @@
 //! ActPosWithoutPosCorrection, drive mode, encoder counter, ...) are
 //! [`AxisEngine::ext_status`]; the persistent-parameter list for the shell to store is
 //! [`AxisEngine::persistent_parameters`] / [`AxisEngine::apply_persistent_parameters`].
+//!
+//! Collision-avoidance groups (collision_avoidance.md) live in [`ca`]: groups are configured
+//! with [`AxisEngine::add_ca_group`], every CA block is `AxisCommand::Ca(`[`ca::CaCommand`]`)`,
+//! values of read/enable blocks come back as `ReplyValue::Ca(`[`ca::CaValue`]`)`, the groups
+//! are published in [`AxisSnapshot::ca_groups`] (per axis: order, predecessor, gap to it,
+//! effective gap, CA limitation), instance outputs through [`AxisEngine::outputs`] and
+//! [`ca::CaGroups::gear_outputs`]. [`bench_ring`] builds a moving ring for benchmarks.
 
 mod axis;
 pub mod buffer;
+pub mod ca;
 pub mod calc;
 pub mod command;
 pub mod config;
@@ -89,6 +97,7 @@ pub mod state;
 pub mod superposition;
 mod torque;
 
+pub use ca::bench::bench_ring;
 pub use command::*;
 pub use config::{AxisConfig, FollowingModel};
 pub use engine::{ext_setpoint, extensions, multi_master, phasing};

@@ -171,6 +171,9 @@ pub struct AxisSnapshot {
     pub groups: Vec<crate::group::GroupStatus>,
     /// Platform profile, start-up and safety state (plcopen_platform.md §8–§10).
     pub platform: crate::platform::PlatformStatus,
+    /// Collision-avoidance groups (collision_avoidance.md §9.5).
+    #[serde(default)]
+    pub ca_groups: Vec<crate::ca::CaGroupStatus>,
 }
 
 impl AxisSnapshot {

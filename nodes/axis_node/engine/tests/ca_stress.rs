@@ -1,0 +1,284 @@
+//! collision_avoidance.md §8.2 G1/G2 under random traffic: 10 movers on a 3000 mm ring,
+//! random targets and dynamics, random hard halts (MC_HaltCA with MAXIMUM deceleration and the
+//! maximum jerk) of the leader M1, 10 000 cycles. Seeded (CA_STRESS_SEED, default 1..=3;
+//! CA_STRESS_RUNS adds more seeds): deterministic.
+//!
+//! Asserts every cycle: no pair gap below its effective gap − 1e-6 (all start ≥ gap),
+//! |v| ≤ V_max (1 + 1e-5), |a| ≤ A/D_max (1 + 1e-6), |Δa| ≤ J_max·T (1 + 1e-6) for every axis.
+
+mod ca_common;
+use axis_engine::ca::*;
+use ca_common::*;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+const VMAX: f64 = 2000.0;
+const AMAX: f64 = 20000.0;
+const JMAX: f64 = 200000.0;
+
+fn mcl(v: f64) -> McLreal {
+    McLreal::Value(v)
+}
+
+fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let names: Vec<String> = (1..=10).map(|i| format!("M{i}")).collect();
+    let m: Vec<(&str, f64)> = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (n.as_str(), 2700.0 - i as f64 * 300.0))
+        .collect();
+    let cfg = CaGroupConfig {
+        default_gap_control_mode: mode,
+        gap_control_direction: direction,
+        ..ring(3000.0)
+    };
+    let mut r = CaRig::new(&m, cfg);
+    let mut prev_a = [0.0; 10];
+    // G1 floor per CA position: the effective gap, or (after an increase of the effective gap
+    // of an axis below it) the previous value until regained or stopped, then never
+    // decreasing (§8.2 G1).
+    let mut floor = [100.0f64; 10];
+    let mut tgt_prev = [100.0f64; 10];
+    let mut catching = [false; 10];
+    let mut worst = f64::INFINITY;
+    let mut moved = 0.0;
+    let mut halts = 0;
+    let mut stop_at: Option<usize> = None;
+    for cycle in 0..10_000 {
+        // Random traffic: on average a new command every 20 cycles, a leader halt every 400.
+        if rng.gen_bool(0.05) && stop_at.is_none() {
+            let i = rng.gen_range(0..10);
+            let jerk = rng.gen_range(1000.0..JMAX);
+            let acc = rng.gen_range(100.0..AMAX);
+            let dec = rng.gen_range(100.0..AMAX);
+            let v = rng.gen_range(50.0..VMAX);
+            let gap = if rng.gen_bool(0.5) {
+                McLreal::Unset
+            } else {
+                mcl(rng.gen_range(100.0..140.0))
+            };
+            let mode = GapControlMode::from_raw(rng.gen_range(0..3)).unwrap();
+            let backward = direction == GapControlDirection::Both && rng.gen_bool(0.3);
+            // In direction Positive a reverse move is unprotected (§1.5): forward targets lie
+            // beyond the axis' stop point with the new command's braking.
+            let st = r.axis(&names[i]);
+            let reach = planner::stop_point(
+                planner::Kin {
+                    x: 0.0,
+                    v: st.velocity.max(0.0),
+                    a: st.acceleration,
+                },
+                dec.max(-st.acceleration),
+                jerk,
+            ) + 1.0;
+            let d = rng.gen_range(reach..reach + 2000.0);
+            let d = if backward {
+                -rng.gen_range(0.0..2000.0)
+            } else {
+                d
+            };
+            let res = if rng.gen_bool(0.5) {
+                let target = st.position + d;
+                let (position, dir) = if rng.gen_bool(0.5) || backward {
+                    (target, CaDirection::NonModulo)
+                } else {
+                    (target.rem_euclid(3000.0), CaDirection::Positive)
+                };
+                r.ca(CaCommand::MoveAbsolute(MoveAbsoluteCa {
+                    axis: names[i].clone(),
+                    position: mcl(position),
+                    velocity: mcl(v),
+                    acceleration: mcl(acc),
+                    deceleration: mcl(dec),
+                    jerk: mcl(jerk),
+                    gap,
+                    direction: dir,
+                    gap_control_mode: mode,
+                    ..Default::default()
+                }))
+            } else {
+                r.ca(CaCommand::MoveRelative(MoveRelativeCa {
+                    axis: names[i].clone(),
+                    distance: mcl(d),
+                    velocity: mcl(v),
+                    acceleration: mcl(acc),
+                    deceleration: mcl(dec),
+                    jerk: mcl(jerk),
+                    gap,
+                    gap_control_mode: mode,
+                    ..Default::default()
+                }))
+            };
+            res.unwrap_or_else(|e| panic!("seed {seed} cycle {cycle}: rejected {e}"));
+        }
+        // Group-wide stops now and then: MC_GroupHalt (not locking) and MC_GroupStop (locking,
+        // released once the group stands).
+        if stop_at.is_none() && rng.gen_bool(0.0008) {
+            r.ca(CaCommand::GroupHalt {
+                group: G.into(),
+                deceleration: McLreal::Unset,
+                jerk: McLreal::Unset,
+            })
+            .unwrap();
+        }
+        if stop_at.is_none() && rng.gen_bool(0.0004) {
+            stop_at = Some(cycle);
+            r.ca(CaCommand::GroupStop {
+                group: G.into(),
+                execute: true,
+                deceleration: McLreal::Maximum,
+                jerk: McLreal::Unset,
+            })
+            .unwrap();
+        }
+        if stop_at.is_some_and(|c| cycle > c + 50) && r.group().all_axes_standing {
+            stop_at = None;
+            r.ca(CaCommand::GroupStop {
+                group: G.into(),
+                execute: false,
+                deceleration: McLreal::Unset,
+                jerk: McLreal::Unset,
+            })
+            .unwrap();
+            r.step();
+            assert_eq!(
+                r.state(),
+                GroupState::GroupStandby,
+                "released after the stop"
+            );
+        }
+        if rng.gen_bool(0.0025) && stop_at.is_none() {
+            halts += 1;
+            r.ca(CaCommand::Halt(HaltCa {
+                axis: "M1".into(),
+                deceleration: McLreal::Maximum,
+                jerk: mcl(JMAX),
+                ..Default::default()
+            }))
+            .unwrap();
+        }
+        r.step();
+        let g = r.group();
+        for (k, a) in g.axes.iter().enumerate() {
+            if a.gap_target < tgt_prev[k] {
+                floor[k] = floor[k].min(a.gap_target);
+            }
+            worst = worst.min(a.gap_actual - floor[k]);
+            assert!(
+                a.gap_actual >= floor[k] - 1e-6,
+                "seed {seed} cycle {cycle}: {} gap {} < {} (target {})",
+                a.name,
+                a.gap_actual,
+                floor[k],
+                a.gap_target
+            );
+            let (gap, tgt) = (a.gap_actual, a.gap_target);
+            // The pair is at rest: this axis and its predecessor (reverse motion in Both).
+            let p = &g.axes[(k + 9) % 10];
+            let standing = a.velocity == 0.0
+                && a.acceleration == 0.0
+                && p.velocity == 0.0
+                && p.acceleration == 0.0;
+            if tgt > tgt_prev[k] && (gap < tgt || !standing) {
+                // Increase on a moving axis: the previous value stays guaranteed until it stops.
+                catching[k] = true;
+                floor[k] = floor[k].min(tgt_prev[k]);
+            }
+            if catching[k] {
+                if standing {
+                    catching[k] = false;
+                    floor[k] = tgt.min(gap);
+                }
+            } else if gap >= tgt - 1e-6 {
+                floor[k] = tgt;
+            } else {
+                floor[k] = tgt.min(floor[k].max(gap));
+            }
+            tgt_prev[k] = tgt;
+            assert!(
+                a.velocity.abs() <= VMAX * (1.0 + 1e-5),
+                "{} v {}",
+                a.name,
+                a.velocity
+            );
+            assert!(
+                a.acceleration.abs() <= AMAX * (1.0 + 1e-6),
+                "{} a {}",
+                a.name,
+                a.acceleration
+            );
+            let da = (a.acceleration - prev_a[k]).abs();
+            assert!(
+                da <= JMAX * T * (1.0 + 1e-6),
+                "seed {seed} cycle {cycle}: {} jerk {} > {}",
+                a.name,
+                da / T,
+                JMAX
+            );
+            prev_a[k] = a.acceleration;
+            moved += a.velocity.abs() * T;
+        }
+    }
+    eprintln!("seed {seed} {mode:?} {direction:?}: moved {moved:.0} mm, {halts} leader halts");
+    assert!(
+        moved > 10_000.0,
+        "the traffic really moved the train: {moved} mm"
+    );
+    assert!(halts > 5, "the leader was halted {halts} times");
+    assert!(worst.is_finite());
+}
+
+fn seeds() -> Vec<u64> {
+    let runs: u64 = std::env::var("CA_STRESS_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3);
+    match std::env::var("CA_STRESS_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        Some(s) => vec![s],
+        None => (1..=runs).collect(),
+    }
+}
+
+#[test]
+fn standard_positive_random_traffic_never_violates_a_gap() {
+    for s in seeds() {
+        run(
+            s,
+            DefaultGapControlMode::Standard,
+            GapControlDirection::Positive,
+        );
+    }
+}
+
+#[test]
+fn fast_positive_random_traffic_never_violates_a_gap() {
+    for s in seeds() {
+        run(
+            s,
+            DefaultGapControlMode::Fast,
+            GapControlDirection::Positive,
+        );
+    }
+}
+
+#[test]
+fn standard_both_random_traffic_with_reverse_moves_never_violates_a_gap() {
+    for s in seeds() {
+        run(
+            s,
+            DefaultGapControlMode::Standard,
+            GapControlDirection::Both,
+        );
+    }
+}
+
+#[test]
+fn fast_both_random_traffic_with_reverse_moves_never_violates_a_gap() {
+    for s in seeds() {
+        run(s, DefaultGapControlMode::Fast, GapControlDirection::Both);
+    }
+}
