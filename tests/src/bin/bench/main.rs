@@ -1,7 +1,7 @@
 //! Benchmarks (not timed tests): figures are printed, with ratios against references measured
 //! in the same run.
 //!
-//! `bench [--smoke] [runtime] [roundtrip] [axis] [planar] [pickplace] [ruckig]` (default: all). `--smoke` runs short
+//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [pickplace] [ruckig]` (default: all). `--smoke` runs short
 //! versions (CI).
 //! - runtime: cycle jitter p50/p99/max and overruns of the cyclic controller at 1 kHz with a
 //!   trivial engine (60 s; smoke 2 s).
@@ -10,6 +10,8 @@
 //!   Must run inside scripts/netns-run.
 //! - axis: engine step cost per moving axis for 1, 100, 1000 axes (all moving), against the
 //!   cost of evaluating their trajectories alone (the floor).
+//! - ca: collision-avoidance group step cost for 10, 100, 1000 axes on a ring, against the
+//!   plain single-axis step of as many axes.
 //! - planar: engine step cost for 10, 100, 500 movers moving freely with the overlap guard,
 //!   against evaluating their X/Y/C profiles alone.
 //! - pickplace: cell step mean and p99.9 (2 belts × 30 workpieces, blended ellipse) against the
@@ -25,6 +27,7 @@ use ros2_client::ServiceMapping;
 use std::time::{Duration, Instant};
 use system_tests::ClientNode;
 
+mod ca;
 mod pickplace;
 mod planar;
 
@@ -83,6 +86,12 @@ fn main() {
             if smoke { 200 } else { 2000 },
         );
     }
+    if all || args.iter().any(|a| a == "ca") {
+        ca::step_cost(
+            if smoke { &[10, 100] } else { &[10, 100, 1000] },
+            if smoke { 200 } else { 2000 },
+        );
+    }
     if all || args.iter().any(|a| a == "planar") {
         planar::step_cost(
             if smoke { &[10, 100] } else { &[10, 100, 500] },
@@ -106,69 +115,62 @@ fn axis_config() -> axis_engine::AxisConfig {
 
 /// Engine step cost per moving axis: every axis runs a long move for the whole measurement.
 fn axis_step_cost(counts: &[usize], steps: u64) {
-    use axis_engine::{AxisCommand, AxisEngine, BufferMode, MoveAbsolute, MoveOptions, Power};
     for &n in counts {
-        let axes = (0..n).map(|i| (format!("a{i}"), axis_config())).collect();
-        let mut e = AxisEngine::new(axes).expect("engine");
-        let mut ev = Vec::with_capacity(4 * n);
-        for i in 0..n {
-            e.command(AxisCommand::Power(Power {
-                axis: format!("a{i}"),
-                enable: true,
-                enable_positive: true,
-                enable_negative: true,
-                override_percent: 100.0,
-                buffer_mode: BufferMode::Aborting,
-            }))
-            .expect("power");
-        }
-        let mut tick = 0;
-        for _ in 0..5 {
-            e.step(
-                Tick {
-                    index: tick,
-                    dt: 0.001,
-                },
-                &mut ev,
-            );
-            tick += 1;
-        }
-        for i in 0..n {
-            e.command(AxisCommand::MoveAbsolute(MoveAbsolute {
-                axis: format!("a{i}"),
-                position: 1.0e6 + i as f64,
-                velocity: 1000.0,
-                acceleration: 0.0,
-                deceleration: 0.0,
-                jerk: 0.0,
-                buffer_mode: BufferMode::Aborting,
-                options: MoveOptions::default(),
-            }))
-            .expect("move");
-        }
-        ev.clear();
-        let t0 = Instant::now();
-        for _ in 0..steps {
-            e.step(
-                Tick {
-                    index: tick,
-                    dt: 0.001,
-                },
-                &mut ev,
-            );
-            ev.clear();
-            tick += 1;
-        }
-        let per = t0.elapsed().as_secs_f64() / (steps as f64 * n as f64);
-        let moving = e.snapshot().axes.iter().filter(|a| a.has_job).count();
+        let per = axis_step_seconds(n, steps);
         let floor = profile_floor(n, steps) / n as f64;
         println!(
-            "axis engine step: {n:5} axes ({moving} moving): {:7.1} ns per moving axis per step | profile evaluation alone {:5.1} ns (ratio {:.1}) | target <= 100 ns at 1000 axes",
+            "axis engine step: {n:5} axes (all moving): {:7.1} ns per moving axis per step | profile evaluation alone {:5.1} ns (ratio {:.1}) | target <= 100 ns at 1000 axes",
             per * 1e9,
             floor * 1e9,
             per / floor
         );
     }
+}
+
+/// Seconds per axis and step of `n` powered axes, each running a long MoveAbsolute.
+fn axis_step_seconds(n: usize, steps: u64) -> f64 {
+    use axis_engine::{AxisCommand, AxisEngine, BufferMode, MoveAbsolute, MoveOptions, Power};
+    let axes = (0..n).map(|i| (format!("a{i}"), axis_config())).collect();
+    let mut e = AxisEngine::new(axes).expect("engine");
+    let mut ev = Vec::with_capacity(4 * n);
+    for i in 0..n {
+        e.command(AxisCommand::Power(Power {
+            axis: format!("a{i}"),
+            enable: true,
+            enable_positive: true,
+            enable_negative: true,
+            override_percent: 100.0,
+            buffer_mode: BufferMode::Aborting,
+        }))
+        .expect("power");
+    }
+    let mut tick = 0;
+    for _ in 0..5 {
+        step(&mut e, &mut tick, &mut ev);
+    }
+    for i in 0..n {
+        e.command(AxisCommand::MoveAbsolute(MoveAbsolute {
+            axis: format!("a{i}"),
+            position: 1.0e6 + i as f64,
+            velocity: 1000.0,
+            acceleration: 0.0,
+            deceleration: 0.0,
+            jerk: 0.0,
+            buffer_mode: BufferMode::Aborting,
+            options: MoveOptions::default(),
+        }))
+        .expect("move");
+    }
+    let t0 = Instant::now();
+    for _ in 0..steps {
+        step(&mut e, &mut tick, &mut ev);
+    }
+    let per = t0.elapsed().as_secs_f64() / (steps as f64 * n as f64);
+    assert!(
+        e.snapshot().axes.iter().all(|a| a.has_job),
+        "all axes moved for the whole measurement"
+    );
+    per
 }
 
 /// One 1 ms cycle of an engine; its command events are dropped.
