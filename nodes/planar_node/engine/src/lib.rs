@@ -29,18 +29,25 @@ pub mod motion;
 mod objects;
 pub mod snapshot;
 mod state;
+pub mod track;
 pub mod types;
 
 pub use admission::{admissible, AdmissionContext, CommandKind};
 pub use command::{ObjectKind, PlanarCommand};
 pub use config::{
     EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig, PartPositionConfig,
-    PlanarConfig,
+    PlanarConfig, TrackConfig,
 };
 pub use engine::PlanarEngine;
 pub use snapshot::{
-    ActiveCommands, BusyFlags, EnvironmentSnapshot, GroupSnapshot, MoverSnapshot, PartSnapshot,
-    PlanarReply, PlanarSnapshot, ReplyValue,
+    ActiveCommands, BusyFlags, EnvironmentSnapshot, GroupSnapshot, MoverSnapshot, OnTrackSnapshot,
+    PartSnapshot, PlanarReply, PlanarSnapshot, ReplyValue, TrackSnapshot,
 };
 pub use state::Timing;
+pub use track::bench::bench_loop;
+pub use track::geometry::{TrackGeometry, TrackPose};
+pub use track::{
+    AdoptTrackOrientationOptions, MoveOnTrackOptions, TrackLinkAdvancedOptions,
+    TrackOperationMode, DEFAULT_GAP,
+};
 pub use types::*;

@@ -1,0 +1,280 @@
+//! Tracks (xplanar.md §1.6, §2.5, §3.3, §5.4–§5.6, §5.9, §5.12): geometry, operation modes,
+//! on-track motion with gap control, and networks of linked tracks.
+//!
+//! Module map: [`geometry`] (§5.4 segments, transitions, arc length), `gap` (§5.6.3 reach
+//! intervals), `engine_ext` (the engine hooks: track commands, join/leave, MoveOnTrack,
+//! AdoptTrackOrientation, the on-track cycle), `bench` (the benchmark scene).
+
+pub mod bench;
+mod engine_ext;
+pub(crate) mod gap;
+pub mod geometry;
+
+use crate::state::PlanarStateMachine;
+use crate::types::{Direction, Dynamics};
+use geometry::TrackGeometry;
+use motion_core::trajectory::Profile1;
+use serde::{Deserialize, Serialize};
+
+/// Default gap between movers on a track \[mm\] (ST_MoveOnTrackOptions.gap, §4.2).
+pub const DEFAULT_GAP: f64 = 200.0;
+
+/// `MC_PLANAR_TRACK_OPERATION_MODE` (§2.5, §4.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum TrackOperationMode {
+    /// Not connected (0).
+    Invalid = 0,
+    /// Not enabled / no geometry (201); unusable by movers.
+    #[default]
+    Uninitialized = 201,
+    /// Enabled, no mover moving, joining or leaving (202).
+    Standing = 202,
+    /// A mover joins or leaves (203): MoveOnTrack rejected.
+    Configuring = 203,
+    /// A mover moves on the track (204): JoinTrack/LeaveTrack rejected.
+    Moving = 204,
+}
+
+/// `ST_MoveOnTrackOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MoveOnTrackOptions {
+    /// Minimal arc-length distance to the mover in front \[mm\] (default 200).
+    pub gap: f64,
+    /// How the target is approached (default NonModulo).
+    pub direction: Direction,
+    /// Extra laps on a closed loop (Positive/Negative only).
+    pub additional_turns: u32,
+    /// Modulo tolerance window \[mm\] (not with NonModulo).
+    pub modulo_tolerance: f64,
+}
+
+impl Default for MoveOnTrackOptions {
+    fn default() -> Self {
+        MoveOnTrackOptions {
+            gap: DEFAULT_GAP,
+            direction: Direction::NonModulo,
+            additional_turns: 0,
+            modulo_tolerance: 0.0,
+        }
+    }
+}
+
+/// `ST_AdoptTrackOrientationOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AdoptTrackOrientationOptions {
+    /// Extra full turns (Positive/Negative only).
+    pub additional_turns: u32,
+    /// How the heading is approached (default ShortestWay).
+    pub direction: Direction,
+}
+
+impl Default for AdoptTrackOrientationOptions {
+    fn default() -> Self {
+        AdoptTrackOrientationOptions {
+            additional_turns: 0,
+            direction: Direction::ShortestWay,
+        }
+    }
+}
+
+/// `ST_StartFromTrackAdvancedOptions` / `ST_EndAtTrackAdvancedOptions` (§4.2, §5.12).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrackLinkAdvancedOptions {
+    /// Position index of the part carrying the track the method is called on (0 = current).
+    pub this_track_part_position_index: u32,
+    /// Position index of the part carrying the other track (0 = current).
+    pub other_track_part_position_index: u32,
+    /// TRUE: the link exists only in exactly this combination of part positions.
+    pub link_only_in_specified_part_positions: bool,
+}
+
+/// MC_PlanarTrack.
+#[derive(Clone, Debug)]
+pub(crate) struct Track {
+    pub name: String,
+    pub oid: u32,
+    /// Part the track is fixed to (0 = none / the only part).
+    pub part_oid: u32,
+    /// Coordinate system of the geometry.
+    pub cs: u32,
+    pub sm: PlanarStateMachine,
+    pub geo: TrackGeometry,
+    /// Movers on the track in track order (by s; cyclic on a closed loop).
+    pub order: Vec<usize>,
+    /// Linked tracks whose end is this track's start.
+    pub prev: Vec<usize>,
+    /// Linked tracks whose start is this track's end.
+    pub next: Vec<usize>,
+    /// Tracks whose links block changes of this one (itself after EndAtTrack).
+    pub locked_by: Vec<usize>,
+    /// Start already linked by StartFromTrack (same part).
+    pub start_linked: bool,
+    /// End already linked by EndAtTrack (same part).
+    pub end_linked: bool,
+}
+
+impl Track {
+    pub fn length(&self) -> f64 {
+        self.geo.length()
+    }
+}
+
+/// What the mover is doing on its track (§5.6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum TrackTarget {
+    /// No command (standing, or stopping after Halt / an error).
+    None,
+    /// MoveOnTrack to this route coordinate.
+    Position(f64),
+}
+
+/// A mover's on-track state (SETONTRACK, §4.4). Positions are route coordinates `r`:
+/// on a closed loop the unwrapped arc length; on open tracks the arc length on the track
+/// the route started from (`s = r - base` on the current track).
+#[derive(Clone, Debug)]
+pub(crate) struct TrackMotion {
+    pub track: usize,
+    pub base: f64,
+    pub r: f64,
+    pub v: f64,
+    pub a: f64,
+    pub plan: Option<(Profile1, f64)>,
+    /// Dynamics of the running plan.
+    pub plan_dyn: Dynamics,
+    /// (deceleration, jerk) with which the current state was verified against the gap.
+    pub safe: (f64, f64),
+    /// Following a committed stop (no gap checks needed: the reach only shrinks).
+    pub braking: bool,
+    pub target: TrackTarget,
+    /// Dynamics of the MoveOnTrack command (re-plans after waiting use them).
+    pub cmd_dyn: Dynamics,
+    pub gap: f64,
+    /// Tracks still to pass, in order (cross-track MoveOnTrack, §5.6.5).
+    pub route: Vec<usize>,
+    /// Cycles since the last re-plan while gap-limited.
+    pub since_replan: u32,
+    /// The plan ends short of the target because of the gap.
+    pub limited: bool,
+    /// Index in `Track::order`.
+    pub slot: usize,
+    /// Dependent C: c = heading + c_off \[deg\] (§5.9).
+    pub c_off: f64,
+    /// AdoptTrackOrientation running: C becomes dependent when it ends on the heading.
+    pub adopt: bool,
+}
+
+impl TrackMotion {
+    pub fn new(track: usize, s: f64, dyn_: Dynamics) -> Self {
+        TrackMotion {
+            track,
+            base: 0.0,
+            r: s,
+            v: 0.0,
+            a: 0.0,
+            plan: None,
+            plan_dyn: dyn_,
+            safe: (dyn_.deceleration, dyn_.jerk),
+            braking: false,
+            target: TrackTarget::None,
+            cmd_dyn: dyn_,
+            gap: DEFAULT_GAP,
+            route: Vec::new(),
+            since_replan: 0,
+            limited: false,
+            slot: 0,
+            c_off: 0.0,
+            adopt: false,
+        }
+    }
+
+    /// Arc length on the current track.
+    pub fn s(&self) -> f64 {
+        self.r - self.base
+    }
+
+    pub fn state(&self) -> motion_core::trajectory::State1 {
+        motion_core::trajectory::State1 {
+            pos: self.r,
+            vel: self.v,
+            acc: self.a,
+        }
+    }
+
+    /// A plan or a pending target keeps the mover (and its tracks) Moving.
+    pub fn active(&self) -> bool {
+        self.plan.is_some() || self.target != TrackTarget::None || self.v != 0.0
+    }
+
+    /// Stops along the track with `d` (Halt, Disable, QuickStop): a committed stop.
+    pub fn plan_stop(&mut self, d: &Dynamics) {
+        self.target = TrackTarget::None;
+        self.route.clear();
+        self.limited = false;
+        if self.v == 0.0 && self.a == 0.0 {
+            self.plan = None;
+            return;
+        }
+        if let Ok(p) = Profile1::stopping(self.state(), &d.limits()) {
+            self.plan = Some((p, 0.0));
+            self.plan_dyn = *d;
+            self.braking = false;
+        }
+    }
+
+    /// Freezes the motion (Abort reaction).
+    pub fn freeze(&mut self) {
+        self.plan = None;
+        self.v = 0.0;
+        self.a = 0.0;
+        self.target = TrackTarget::None;
+        self.route.clear();
+        self.braking = false;
+        self.limited = false;
+    }
+}
+
+/// Builds the configured tracks (all Disabled, no geometry) and their name index.
+pub(crate) fn build_tracks(
+    cfg: &crate::config::PlanarConfig,
+    parts: &[crate::objects::Part],
+) -> (Vec<Track>, std::collections::HashMap<String, usize>) {
+    let tracks: Vec<Track> = cfg
+        .tracks
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let part = if t.part_oid != 0 {
+                parts.iter().find(|p| p.oid == t.part_oid)
+            } else {
+                parts.first()
+            };
+            let cs = match part {
+                Some(p) => p.origin().0,
+                None => cfg.coordinate_systems.first().copied().unwrap_or(0),
+            };
+            Track {
+                name: t.name.clone(),
+                oid: cfg.track_oid(i),
+                part_oid: part.map(|p| p.oid).unwrap_or(0),
+                cs,
+                sm: PlanarStateMachine::default(),
+                geo: TrackGeometry::default(),
+                order: Vec::new(),
+                prev: Vec::new(),
+                next: Vec::new(),
+                locked_by: Vec::new(),
+                start_linked: false,
+                end_linked: false,
+            }
+        })
+        .collect();
+    let idx = tracks
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (t.name.clone(), i))
+        .collect();
+    (tracks, idx)
+}
