@@ -2,7 +2,7 @@
 //! AdoptTrackOrientation (§3.2), operation modes (§2.5), and the on-track cycle with gap
 //! control (§5.6.3) and network transitions (§5.6.5).
 
-use super::gap::{reach, step_ok};
+use super::gap::{reach, step_ok, AIM_INSIDE};
 use super::geometry::{GeometryError, TrackPose};
 use super::{Track, TrackMotion, TrackOperationMode, TrackTarget};
 use crate::admission::CommandKind;
@@ -1153,7 +1153,7 @@ impl PlanarEngine {
         let s = tm.s();
         let rel = |j: usize| {
             let o = self.movers[j].track.as_ref().expect("on track");
-            let (lo, hi) = crate::motion::stop_range(o.v, o.a, o.safe.0, o.safe.1);
+            let (lo, hi) = super::gap::stop_interval(o.v, o.a, o.safe.0, o.safe.1);
             (o.s(), lo, hi)
         };
         let mut fwd = f64::INFINITY;
@@ -1206,7 +1206,11 @@ impl PlanarEngine {
             return None;
         };
         let d = &tm.cmd_dyn;
-        let lim = if x >= tm.r { x.min(fwd) } else { x.max(bwd) };
+        let lim = if x >= tm.r {
+            x.min(fwd - AIM_INSIDE)
+        } else {
+            x.max(bwd + AIM_INSIDE)
+        };
         let (lo, hi) = reach(tm.r, tm.v, tm.a, d.deceleration, d.jerk);
         if (x >= tm.r && lim < hi) || (x < tm.r && lim > lo) {
             return None;
@@ -1271,7 +1275,11 @@ impl PlanarEngine {
                 let tm = self.movers[i].track.as_ref().expect("on track");
                 if replace.is_none() {
                     if let TrackTarget::Position(x) = tm.target {
-                        let lim = if x >= tm.r { x.min(fwd) } else { x.max(bwd) };
+                        let lim = if x >= tm.r {
+                            x.min(fwd - AIM_INSIDE)
+                        } else {
+                            x.max(bwd + AIM_INSIDE)
+                        };
                         let planned_end = tm.plan.as_ref().map(|(p, _)| p.end().pos);
                         let resume = match planned_end {
                             None => (lim - tm.r).abs() > AT_TARGET
@@ -1298,6 +1306,7 @@ impl PlanarEngine {
                     let end_pos = p.end().pos;
                     tm.plan = Some((p, 0.0));
                     tm.plan_dyn = tm.cmd_dyn;
+                    tm.braking = false;
                     tm.limited = match tm.target {
                         TrackTarget::Position(x) => (end_pos - x).abs() > AT_TARGET,
                         TrackTarget::None => false,
