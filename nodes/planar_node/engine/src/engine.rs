@@ -352,7 +352,12 @@ impl PlanarEngine {
         Ok(())
     }
 
-    pub(crate) fn require_mode(&self, i: usize, kind: CommandKind, what: &str) -> Result<(), Rejection> {
+    pub(crate) fn require_mode(
+        &self,
+        i: usize,
+        kind: CommandKind,
+        what: &str,
+    ) -> Result<(), Rejection> {
         let m = &self.movers[i];
         let ctx = AdmissionContext {
             standing: m.xy_standing(),
@@ -753,7 +758,11 @@ impl PlanarEngine {
         }
     }
 
-    pub(crate) fn halt(&mut self, i: usize, constraint: DynamicConstraint) -> Result<PlanarReply, Rejection> {
+    pub(crate) fn halt(
+        &mut self,
+        i: usize,
+        constraint: DynamicConstraint,
+    ) -> Result<PlanarReply, Rejection> {
         let who = format!("mover '{}'", self.movers[i].name);
         self.require_enabled(i, "Halt")?;
         self.require_mode(i, CommandKind::Halt, "Halt")?;

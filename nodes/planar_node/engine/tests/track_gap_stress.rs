@@ -131,8 +131,18 @@ fn twenty_movers_keep_the_gap_and_the_limits() {
         for k in 0..N {
             let o = snap.movers[k].on_track.as_ref().unwrap();
             let (v, a, j) = lim[k];
-            assert!(o.set_velo.abs() <= v + 1e-6, "cycle {cycle}: {} v {}", names[k], o.set_velo);
-            assert!(o.set_acc.abs() <= a + 1e-6, "cycle {cycle}: {} a {}", names[k], o.set_acc);
+            assert!(
+                o.set_velo.abs() <= v + 1e-6,
+                "cycle {cycle}: {} v {}",
+                names[k],
+                o.set_velo
+            );
+            assert!(
+                o.set_acc.abs() <= a + 1e-6,
+                "cycle {cycle}: {} a {}",
+                names[k],
+                o.set_acc
+            );
             let jerk = (o.set_acc - prev_acc[k]).abs() / 0.001;
             assert!(
                 jerk <= j * (1.0 + 1e-6) + 1e-3,
@@ -150,5 +160,8 @@ fn twenty_movers_keep_the_gap_and_the_limits() {
             s.history.get(&id)
         );
     }
-    assert!(waited > 0, "gap control never held a mover back (test not exercising it)");
+    assert!(
+        waited > 0,
+        "gap control never held a mover back (test not exercising it)"
+    );
 }

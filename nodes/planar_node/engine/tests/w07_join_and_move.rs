@@ -14,7 +14,10 @@ use track_common::*;
 fn setup() -> Sim {
     let mut s = Sim::new(cfg(&[("A", 0.0, 0.0), ("B", 240.0, 0.0)], &["T"]));
     s.ok(line("T", (0.0, 0.0), (400.0, 0.0)));
-    assert_eq!(track(&s, "T").operation_mode, TrackOperationMode::Uninitialized);
+    assert_eq!(
+        track(&s, "T").operation_mode,
+        TrackOperationMode::Uninitialized
+    );
     enable_track(&mut s, "T");
     let t = track(&s, "T");
     assert_eq!(t.state, PlanarState::Enabled);
@@ -85,12 +88,20 @@ fn w07_operation_mode_gating() {
         options: MoveToPositionOptions::default(),
     });
     assert_eq!(e.error_id, E_TRACK_MODE_CONFLICT, "LeaveTrack while Moving");
-    s.run_until(5.0, |sn| sn.track("T").unwrap().operation_mode == TrackOperationMode::Standing);
+    s.run_until(5.0, |sn| {
+        sn.track("T").unwrap().operation_mode == TrackOperationMode::Standing
+    });
     // B joins: T Configuring, A's MoveOnTrack is rejected.
     s.ok(join("B", "T", true));
-    assert_eq!(track(&s, "T").operation_mode, TrackOperationMode::Configuring);
+    assert_eq!(
+        track(&s, "T").operation_mode,
+        TrackOperationMode::Configuring
+    );
     let e = s.err(mot("A", "", 0.0));
-    assert_eq!(e.error_id, E_TRACK_MODE_CONFLICT, "MoveOnTrack while Configuring");
+    assert_eq!(
+        e.error_id, E_TRACK_MODE_CONFLICT,
+        "MoveOnTrack while Configuring"
+    );
 }
 
 /// LeaveTrack: the track is left at the start; Done at the free target → FreeMovement.
@@ -109,7 +120,10 @@ fn w07_leave_track() {
     assert_eq!(m.command_mode, CommandMode::LeavingTrack);
     assert!(m.on_track.is_none(), "left at the start of the motion");
     assert_eq!(track(&s, "T").mover_count, 0);
-    assert_eq!(track(&s, "T").operation_mode, TrackOperationMode::Configuring);
+    assert_eq!(
+        track(&s, "T").operation_mode,
+        TrackOperationMode::Configuring
+    );
     // LeavingTrack accepts no further commands.
     assert_eq!(
         s.err(mtp("A", 0.0, 0.0, 0.0)).error_id,

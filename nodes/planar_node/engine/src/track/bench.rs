@@ -42,7 +42,7 @@ pub fn bench_loop_geometry(n: usize) -> TrackGeometry {
 
 /// An engine with `n_movers` movers on one closed loop (track "loop"), all joined (C
 /// dependent) and circulating: every mover runs `MoveOnTrack` in the positive direction with
-/// 1000 additional turns, velocities 800/1000/1200 mm/s so that gap control (200 mm) keeps
+/// additional turns for about 1 km of travel, velocities 800/1000/1200 mm/s so that gap control (200 mm) keeps
 /// the faster ones behind the slower ones. The engine is returned after it has run 0.5 s of
 /// motion, ready for timing `step` (cycle 1 ms).
 pub fn bench_loop(n_movers: usize) -> PlanarEngine {
@@ -53,7 +53,7 @@ pub fn bench_loop(n_movers: usize) -> PlanarEngine {
     let movers = (0..n_movers)
         .map(|k| {
             let p = geo.pose_at(l * k as f64 / n_movers as f64);
-            MoverConfig::new(&format!("m{k}"), p.p.x, p.p.y, p.heading_deg())
+            MoverConfig::new(&format!("m{k}"), p.p.x, p.p.y, 0.0)
         })
         .collect();
     let cfg = PlanarConfig {
@@ -119,7 +119,15 @@ pub fn bench_loop(n_movers: usize) -> PlanarEngine {
         })
         .expect("bench join");
     }
-    run(&mut e, 20);
+    for _ in 0..30 {
+        run(&mut e, 100);
+        let s = e.snapshot();
+        if s.tracks[0].operation_mode == crate::track::TrackOperationMode::Standing {
+            break;
+        }
+    }
+    // About 1 km of travel each (≥ 15 min at 1 m/s), within the planner's numeric range.
+    let turns = (1.0e6 / l).ceil() as u32;
     for k in 0..n_movers {
         e.command(PlanarCommand::MoveOnTrack {
             mover: format!("m{k}"),
@@ -131,7 +139,7 @@ pub fn bench_loop(n_movers: usize) -> PlanarEngine {
             },
             options: MoveOnTrackOptions {
                 direction: Direction::Positive,
-                additional_turns: 1000,
+                additional_turns: turns,
                 ..Default::default()
             },
         })

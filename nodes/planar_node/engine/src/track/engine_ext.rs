@@ -172,12 +172,7 @@ impl PlanarEngine {
         }
     }
 
-    fn check_position_index(
-        &self,
-        k: usize,
-        index: u32,
-        which: &str,
-    ) -> Result<(), Rejection> {
+    fn check_position_index(&self, k: usize, index: u32, which: &str) -> Result<(), Rejection> {
         if index == 0 {
             return Ok(());
         }
@@ -346,7 +341,10 @@ impl PlanarEngine {
                 if pcs != t.cs || !t.geo.samples(5.0).into_iter().all(on) {
                     return Err(reject(
                         E_GEOMETRY_INVALID,
-                        format!("{who}: the track does not lie completely on part '{}'", p.name),
+                        format!(
+                            "{who}: the track does not lie completely on part '{}'",
+                            p.name
+                        ),
                     ));
                 }
             }
@@ -667,7 +665,10 @@ impl PlanarEngine {
         if mode == TrackOperationMode::Moving {
             return Err(reject(
                 E_TRACK_MODE_CONFLICT,
-                format!("{who}: JoinTrack while track '{}' is Moving", self.tracks[k].name),
+                format!(
+                    "{who}: JoinTrack while track '{}' is Moving",
+                    self.tracks[k].name
+                ),
             ));
         }
         let m = &self.movers[i];
@@ -745,12 +746,18 @@ impl PlanarEngine {
         self.require_enabled(i, "LeaveTrack")?;
         self.require_mode(i, CommandKind::LeaveTrack, "LeaveTrack")?;
         let Some(k) = self.movers[i].track.as_ref().map(|t| t.track) else {
-            return Err(reject(E_INVALID_COMMAND_MODE, format!("{who}: not on a track")));
+            return Err(reject(
+                E_INVALID_COMMAND_MODE,
+                format!("{who}: not on a track"),
+            ));
         };
         if self.track_modes()[k] == TrackOperationMode::Moving {
             return Err(reject(
                 E_TRACK_MODE_CONFLICT,
-                format!("{who}: LeaveTrack while track '{}' is Moving", self.tracks[k].name),
+                format!(
+                    "{who}: LeaveTrack while track '{}' is Moving",
+                    self.tracks[k].name
+                ),
             ));
         }
         // The track is left at the start of the motion (§5.5): plan as a free move.
@@ -797,7 +804,8 @@ impl PlanarEngine {
 
     /// Inserts mover `i` (already carrying its TrackMotion on `k`) into the track order.
     fn insert_into_order(&mut self, i: usize, k: usize) {
-        let s_of = |e: &PlanarEngine, j: usize| e.movers[j].track.as_ref().map(|t| t.s()).unwrap_or(0.0);
+        let s_of =
+            |e: &PlanarEngine, j: usize| e.movers[j].track.as_ref().map(|t| t.s()).unwrap_or(0.0);
         let t = &self.tracks[k];
         let s = s_of(self, i);
         let n = t.order.len();
@@ -894,7 +902,11 @@ impl PlanarEngine {
         options: super::AdoptTrackOrientationOptions,
     ) -> Result<PlanarReply, Rejection> {
         self.require_enabled(i, "AdoptTrackOrientation")?;
-        self.require_mode(i, CommandKind::AdoptTrackOrientation, "AdoptTrackOrientation")?;
+        self.require_mode(
+            i,
+            CommandKind::AdoptTrackOrientation,
+            "AdoptTrackOrientation",
+        )?;
         let tm = self.movers[i].track.as_ref().ok_or_else(|| {
             reject(
                 E_INVALID_COMMAND_MODE,
@@ -959,7 +971,10 @@ impl PlanarEngine {
         }
         let m = &self.movers[i];
         let Some(tm) = m.track.as_ref() else {
-            return Err(reject(E_INVALID_COMMAND_MODE, format!("{who}: not on a track")));
+            return Err(reject(
+                E_INVALID_COMMAND_MODE,
+                format!("{who}: not on a track"),
+            ));
         };
         let (dyn_, reduced) = Dynamics::resolve(
             &m.cfg.default_dynamics,
@@ -978,20 +993,14 @@ impl PlanarEngine {
             if t.geo.closed() {
                 let r = match dir {
                     Direction::NonModulo => target,
-                    _ => modulo_target(
-                        target,
-                        tm.r,
-                        l,
-                        options.modulo_tolerance,
-                        dir,
-                        n,
-                    )
-                    .map_err(|_| {
-                        reject(
-                            E_INVALID_PARAMETER,
-                            format!("{who}: additional_turns not allowed with {dir:?}"),
-                        )
-                    })?,
+                    _ => modulo_target(target, tm.r, l, options.modulo_tolerance, dir, n).map_err(
+                        |_| {
+                            reject(
+                                E_INVALID_PARAMETER,
+                                format!("{who}: additional_turns not allowed with {dir:?}"),
+                            )
+                        },
+                    )?,
                 };
                 (r, vec![])
             } else {
@@ -1031,7 +1040,10 @@ impl PlanarEngine {
             if !(-1e-9..=l + 1e-9).contains(&target) {
                 return Err(reject(
                     E_TARGET_UNREACHABLE,
-                    format!("{who}: target {target} outside track '{}' (length {l})", t.name),
+                    format!(
+                        "{who}: target {target} outside track '{}' (length {l})",
+                        t.name
+                    ),
                 ));
             }
             let Some(route) = self.route(cur, kt) else {
@@ -1224,7 +1236,11 @@ impl PlanarEngine {
 
     fn brake_plan(tm: &TrackMotion) -> Option<Profile1> {
         let lim = Limits {
-            velocity: tm.plan_dyn.velocity.max(tm.cmd_dyn.velocity).max(tm.v.abs()),
+            velocity: tm
+                .plan_dyn
+                .velocity
+                .max(tm.cmd_dyn.velocity)
+                .max(tm.v.abs()),
             acceleration: tm.plan_dyn.acceleration.max(tm.safe.0),
             deceleration: tm.safe.0,
             jerk: tm.safe.1,
@@ -1282,8 +1298,10 @@ impl PlanarEngine {
                         };
                         let planned_end = tm.plan.as_ref().map(|(p, _)| p.end().pos);
                         let resume = match planned_end {
-                            None => (lim - tm.r).abs() > AT_TARGET
-                                && ((lim - tm.r).abs() > REPLAN_MIN || lim == x),
+                            None => {
+                                (lim - tm.r).abs() > AT_TARGET
+                                    && ((lim - tm.r).abs() > REPLAN_MIN || lim == x)
+                            }
                             Some(e) => {
                                 tm.limited
                                     && tm.since_replan >= REPLAN_CYCLES
@@ -1481,10 +1499,7 @@ impl PlanarEngine {
 
     // ------------------------------------------------------------------ snapshots
 
-    pub(crate) fn on_track_snapshot(
-        &self,
-        m: &crate::objects::Mover,
-    ) -> Option<OnTrackSnapshot> {
+    pub(crate) fn on_track_snapshot(&self, m: &crate::objects::Mover) -> Option<OnTrackSnapshot> {
         let tm = m.track.as_ref()?;
         let t = &self.tracks[tm.track];
         let s = tm.s();
@@ -1522,9 +1537,21 @@ impl PlanarEngine {
                 length: t.length(),
                 closed_loop: t.geo.closed(),
                 mover_count: t.order.len(),
-                movers: t.order.iter().map(|&j| self.movers[j].name.clone()).collect(),
-                previous_tracks: t.prev.iter().map(|&x| self.tracks[x].name.clone()).collect(),
-                subsequent_tracks: t.next.iter().map(|&x| self.tracks[x].name.clone()).collect(),
+                movers: t
+                    .order
+                    .iter()
+                    .map(|&j| self.movers[j].name.clone())
+                    .collect(),
+                previous_tracks: t
+                    .prev
+                    .iter()
+                    .map(|&x| self.tracks[x].name.clone())
+                    .collect(),
+                subsequent_tracks: t
+                    .next
+                    .iter()
+                    .map(|&x| self.tracks[x].name.clone())
+                    .collect(),
                 part_oid: t.part_oid,
             })
             .collect()

@@ -74,8 +74,21 @@ mod tests {
             deceleration: 10000.0,
             jerk: 100000.0,
         };
-        for &(v, a) in &[(0.24, -364.0), (-0.24, 364.0), (1.0, -2000.0), (5.0, -900.0)] {
-            let p = Profile1::stopping(State1 { pos: 0.0, vel: v, acc: a }, &lim).unwrap();
+        for &(v, a) in &[
+            (0.24, -364.0),
+            (-0.24, 364.0),
+            (1.0, -2000.0),
+            (5.0, -900.0),
+        ] {
+            let p = Profile1::stopping(
+                State1 {
+                    pos: 0.0,
+                    vel: v,
+                    acc: a,
+                },
+                &lim,
+            )
+            .unwrap();
             let (lo, hi) = stop_interval(v, a, 10000.0, 100000.0);
             let n = 2000;
             let (mut mn, mut mx) = (0.0f64, 0.0f64);
@@ -84,7 +97,10 @@ mod tests {
                 mn = mn.min(x);
                 mx = mx.max(x);
             }
-            assert!(mn >= lo - 1e-9 && mx <= hi + 1e-9, "v {v} a {a}: [{mn}, {mx}] not in [{lo}, {hi}]");
+            assert!(
+                mn >= lo - 1e-9 && mx <= hi + 1e-9,
+                "v {v} a {a}: [{mn}, {mx}] not in [{lo}, {hi}]"
+            );
             let e = p.end().pos;
             assert!(
                 (e - lo).abs() < 1e-9 || (e - hi).abs() < 1e-9,

@@ -375,7 +375,9 @@ impl TrackGeometry {
     /// Appends a generated C² transition from the current end to `to` (nothing if they
     /// already agree); same point with a different heading/curvature is invalid.
     pub fn transition_to(&mut self, to: &TrackPose) -> Result<(), GeometryError> {
-        let e = self.end.ok_or_else(|| GeometryError("track is empty".into()))?;
+        let e = self
+            .end
+            .ok_or_else(|| GeometryError("track is empty".into()))?;
         let d = (to.p - e.p).norm();
         if d <= SAME_POINT {
             if e.continuous_with(&TrackPose { p: e.p, ..*to }) {
@@ -594,7 +596,8 @@ mod tests {
     #[test]
     fn corner_transition_is_c2_and_arc_length_consistent() {
         let mut g = TrackGeometry::default();
-        g.append_line(V2::new(0.0, 0.0), V2::new(400.0, 0.0)).unwrap();
+        g.append_line(V2::new(0.0, 0.0), V2::new(400.0, 0.0))
+            .unwrap();
         g.append_line(V2::new(500.0, 100.0), V2::new(500.0, 400.0))
             .unwrap();
         for s in g.junctions() {
@@ -617,13 +620,8 @@ mod tests {
     #[test]
     fn circle_and_closest() {
         let mut g = TrackGeometry::default();
-        g.append_circle(
-            V2::new(100.0, 0.0),
-            V2::new(100.0, 0.0),
-            V2::zeros(),
-            false,
-        )
-        .unwrap();
+        g.append_circle(V2::new(100.0, 0.0), V2::new(100.0, 0.0), V2::zeros(), false)
+            .unwrap();
         assert!((g.length() - 200.0 * std::f64::consts::PI).abs() < 1e-9);
         let s = g.closest(V2::new(0.0, 300.0));
         assert!((s - 50.0 * std::f64::consts::PI).abs() < 1e-6);

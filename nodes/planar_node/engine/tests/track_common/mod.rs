@@ -42,7 +42,12 @@ pub fn mot(mover: &str, track: &str, target: f64) -> PlanarCommand {
     mot_opt(mover, track, target, MoveOnTrackOptions::default())
 }
 
-pub fn mot_opt(mover: &str, track: &str, target: f64, options: MoveOnTrackOptions) -> PlanarCommand {
+pub fn mot_opt(
+    mover: &str,
+    track: &str,
+    target: f64,
+    options: MoveOnTrackOptions,
+) -> PlanarCommand {
     PlanarCommand::MoveOnTrack {
         mover: mover.into(),
         track: track.into(),
@@ -63,7 +68,11 @@ pub fn dir_opt(direction: Direction, turns: u32, tol: f64) -> MoveOnTrackOptions
 
 pub fn enable_track(s: &mut Sim, t: &str) {
     let id = s.ok(PlanarCommand::TrackEnable { track: t.into() });
-    assert_eq!(s.wait_final(id, 5.0), CommandState::Done, "enable track {t}");
+    assert_eq!(
+        s.wait_final(id, 5.0),
+        CommandState::Done,
+        "enable track {t}"
+    );
 }
 
 pub fn track(s: &Sim, t: &str) -> TrackSnapshot {
@@ -104,7 +113,11 @@ pub fn join_wait(s: &mut Sim, mover: &str, t: &str, use_orientation: bool) {
     let id = s.ok(join(mover, t, use_orientation));
     assert_eq!(s.wait_final(id, 10.0), CommandState::Done, "join {mover}");
     s.step();
-    assert_eq!(s.mover(mover).command_mode, CommandMode::OnTrack, "{mover} OnTrack");
+    assert_eq!(
+        s.mover(mover).command_mode,
+        CommandMode::OnTrack,
+        "{mover} OnTrack"
+    );
 }
 
 /// One closed loop "L": a circle of radius `r` around (0, 0) starting at (r, 0), CCW.
