@@ -2,7 +2,7 @@
 //! AdoptTrackOrientation (§3.2), operation modes (§2.5), and the on-track cycle with gap
 //! control (§5.6.3) and network transitions (§5.6.5).
 
-use super::gap::{reach, step_ok, AIM_INSIDE};
+use super::gap::{reach, step_ok, AIM_INSIDE, GAP_EPS};
 use super::geometry::{GeometryError, TrackPose};
 use super::{Track, TrackMotion, TrackOperationMode, TrackTarget};
 use crate::admission::CommandKind;
@@ -21,6 +21,8 @@ use motion_core::{CmdId, CommandState, ErrorId, Rejection};
 const REPLAN_CYCLES: u32 = 8;
 /// ... and only when its limit moved by more than this \[mm\].
 const REPLAN_MIN: f64 = 0.5;
+/// A waiting (standing) follower resumes once its limit is this far ahead \[mm\].
+const RESUME_MIN: f64 = 1e-3;
 /// Positions closer than this are "at the target" \[mm\].
 const AT_TARGET: f64 = 1e-9;
 
@@ -39,6 +41,22 @@ fn reply(id: CmdId, value: ReplyValue) -> Result<PlanarReply, Rejection> {
 /// Heading equivalent to `h` \[deg\] nearest to `c` \[deg\].
 fn nearest_equivalent(h: f64, c: f64) -> f64 {
     h + 360.0 * ((c - h) / 360.0).round()
+}
+
+/// The command target `x` clamped by the gap limits in the direction of travel; a target
+/// exactly on the limit stays reachable, a clamped one lies just inside.
+fn clamp_target(x: f64, r: f64, fwd: f64, bwd: f64) -> f64 {
+    if x >= r {
+        if x <= fwd + GAP_EPS {
+            x
+        } else {
+            fwd - AIM_INSIDE
+        }
+    } else if x >= bwd - GAP_EPS {
+        x
+    } else {
+        bwd + AIM_INSIDE
+    }
 }
 
 fn limits_of(d: &Dynamics) -> Limits {
@@ -1218,11 +1236,7 @@ impl PlanarEngine {
             return None;
         };
         let d = &tm.cmd_dyn;
-        let lim = if x >= tm.r {
-            x.min(fwd - AIM_INSIDE)
-        } else {
-            x.max(bwd + AIM_INSIDE)
-        };
+        let lim = clamp_target(x, tm.r, fwd, bwd);
         let (lo, hi) = reach(tm.r, tm.v, tm.a, d.deceleration, d.jerk);
         if (x >= tm.r && lim < hi) || (x < tm.r && lim > lo) {
             return None;
@@ -1291,11 +1305,7 @@ impl PlanarEngine {
                 let tm = self.movers[i].track.as_ref().expect("on track");
                 if replace.is_none() {
                     if let TrackTarget::Position(x) = tm.target {
-                        let lim = if x >= tm.r {
-                            x.min(fwd - AIM_INSIDE)
-                        } else {
-                            x.max(bwd + AIM_INSIDE)
-                        };
+                        let lim = clamp_target(x, tm.r, fwd, bwd);
                         let planned_end = tm.plan.as_ref().map(|(p, _)| p.end().pos);
                         let resume = match planned_end {
                             None => {
