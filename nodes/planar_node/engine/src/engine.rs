@@ -744,7 +744,9 @@ impl PlanarEngine {
         } else if m.path.is_some() || m.xy.moving() {
             m.path = PathPlan::stop(m.xy, dxy).ok();
         }
-        if m.c.moving() {
+        // A dependent C rides on the track motion (§5.9): it stops with it.
+        let c_rides = m.track.is_some() && m.c_mode == CCoordinateMode::Dependent;
+        if m.c.moving() && !c_rides {
             if let Ok(p) = m.c.plan_stop(dc) {
                 m.c.start(p);
             }
@@ -1521,10 +1523,13 @@ impl PlanarEngine {
                 m.sm.complete(&mut self.pending);
                 match m.sm.state {
                     PlanarState::Enabled => {
-                        m.mode = if in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max) {
-                            CommandMode::FreeMovement
-                        } else {
-                            CommandMode::CRotationFreeMovement
+                        let win = in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max);
+                        // After a QuickStop reset a mover is still on its track.
+                        m.mode = match (m.track.is_some(), win) {
+                            (false, true) => CommandMode::FreeMovement,
+                            (false, false) => CommandMode::CRotationFreeMovement,
+                            (true, true) => CommandMode::OnTrack,
+                            (true, false) => CommandMode::CRotationOnTrack,
                         };
                     }
                     PlanarState::Disabled => {
@@ -1905,7 +1910,8 @@ impl PlanarEngine {
         let o = &m.offset;
         let xy = m.xy_out();
         let busy_xyc = m.xy_cmd.is_some()
-            || m.halt_cmd.is_some() && m.path.is_some()
+            || m.halt_cmd.is_some()
+                && (m.path.is_some() || m.track.as_ref().is_some_and(|t| t.plan.is_some()))
             || m.esg
                 .as_ref()
                 .is_some_and(|e| e.mode == ExternalSetpointMode::Absolute);

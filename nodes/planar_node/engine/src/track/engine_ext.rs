@@ -1310,7 +1310,7 @@ impl PlanarEngine {
                         let resume = match planned_end {
                             None => {
                                 (lim - tm.r).abs() > AT_TARGET
-                                    && ((lim - tm.r).abs() > REPLAN_MIN || lim == x)
+                                    && ((lim - tm.r).abs() > RESUME_MIN || lim == x)
                             }
                             Some(e) => {
                                 tm.limited

@@ -258,7 +258,12 @@ pub(crate) fn build_tracks(
             Track {
                 name: t.name.clone(),
                 oid: cfg.track_oid(i),
-                part_oid: part.map(|p| p.oid).unwrap_or(0),
+                // With several parts the PartOID must be configured (checked at Enable).
+                part_oid: if t.part_oid != 0 || parts.len() > 1 {
+                    t.part_oid
+                } else {
+                    part.map(|p| p.oid).unwrap_or(0)
+                },
                 cs,
                 sm: PlanarStateMachine::default(),
                 geo: TrackGeometry::default(),
