@@ -1855,9 +1855,8 @@ impl PlanarEngine {
         self.track_finish_idle(i);
         let ev_ = &mut self.pending;
         let m = &mut self.movers[i];
-        let xy_rest = m.path.is_none()
-            && !m.xy.moving()
-            && !m.track.as_ref().is_some_and(|t| t.plan.is_some());
+        let xy_rest =
+            m.path.is_none() && !m.xy.moving() && m.track.as_ref().is_none_or(|t| t.plan.is_none());
         let c_rest = !m.c.moving();
         if m.guard_stop && xy_rest && c_rest {
             m.guard_stop = false;

@@ -64,7 +64,7 @@ fn twenty_movers_keep_the_gap_and_the_limits() {
         jerk: lim[k].2,
     };
     let mut ids = vec![];
-    let mut prev_acc = vec![0.0; N];
+    let mut prev_acc = [0.0; N];
     let mut waited = 0usize;
     let cycles = (seconds * 1000) as usize;
     let mut next_cmd = 0usize;

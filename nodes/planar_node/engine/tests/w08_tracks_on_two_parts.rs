@@ -1,7 +1,8 @@
 //! W8 – Tracks on two parts (manual 6.2.5). Layout of W2 (CS 0x01010060, Part L at (0,0),
 //! Part R at (240,0)). Track 1 on L: (40,120)–(240,120); Track 2 on R: StartFromTrack(Track 1)
-//! + (260,120)–(440,120). M at (120,120) joins Track 1 at s = 80 and moves to Track 2, s = 150:
-//! lengths 200 and 200 (the collinear 20 mm transition is exact), M ends at CS (390,120) on R.
+//! and (260,120)–(440,120). M at (120,120) joins Track 1 at s = 80 and moves to Track 2,
+//! s = 150: lengths 200 and 200 (the collinear 20 mm transition is exact), M ends at CS
+//! (390,120) on R.
 
 mod common;
 mod track_common;
