@@ -1,7 +1,10 @@
 //! The command enum: one variant per method of §3 (manual parameters in snake_case, objects
 //! addressed by their configured names). Feedback objects are the returned [`motion_core::CmdId`].
 
-use crate::track::{AdoptTrackOrientationOptions, MoveOnTrackOptions, TrackLinkAdvancedOptions};
+use crate::track::{
+    AdoptTrackOrientationOptions, GearInPosOnTrackWithMasterMoverOptions, MoveOnTrackOptions,
+    TrackLinkAdvancedOptions,
+};
 use crate::types::{
     DynamicConstraint, ErrorReaction, ExternalSetpointGenerationOptions, MoveCOptions,
     MoveToPositionOptions, MoverVector, PositionXYC,
@@ -229,6 +232,29 @@ pub enum PlanarCommand {
         constraint: DynamicConstraint,
         /// Options (default ShortestWay).
         options: AdoptTrackOrientationOptions,
+    },
+    /// `GearInPosOnTrackWithMasterMover(fb, masterMover, trackTrail, masterSyncPosition,
+    /// masterSyncPositionTrack, slaveSyncPosition, slaveSyncPositionTrack, constraint, options)`
+    /// (§3.2, §5.8): never Done; Aborted by the next XY command, or Error.
+    GearInPosOnTrackWithMasterMover {
+        /// Slave mover name.
+        mover: String,
+        /// Master mover name.
+        master_mover: String,
+        /// Track trail (names in order); empty = the slave's current track only.
+        track_trail: Vec<String>,
+        /// Master position for synchronism \[mm\] (arc length on its track).
+        master_sync_position: f64,
+        /// Track of the master sync position.
+        master_sync_position_track: String,
+        /// Slave position for synchronism \[mm\].
+        slave_sync_position: f64,
+        /// Track of the slave sync position.
+        slave_sync_position_track: String,
+        /// Tangential limits (0 = default).
+        constraint: DynamicConstraint,
+        /// Options.
+        options: GearInPosOnTrackWithMasterMoverOptions,
     },
 
     // --- MC_PlanarTrack (§3.3)

@@ -47,7 +47,7 @@ pub use state::Timing;
 pub use track::bench::bench_loop;
 pub use track::geometry::{TrackGeometry, TrackPose};
 pub use track::{
-    AdoptTrackOrientationOptions, MoveOnTrackOptions, TrackLinkAdvancedOptions, TrackOperationMode,
-    DEFAULT_GAP,
+    AdoptTrackOrientationOptions, GearInPosOnTrackWithMasterMoverOptions, MoveOnTrackOptions,
+    SyncDirections, TrackLinkAdvancedOptions, TrackOperationMode, DEFAULT_GAP,
 };
 pub use types::*;

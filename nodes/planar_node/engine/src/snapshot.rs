@@ -108,6 +108,10 @@ pub struct OnTrackSnapshot {
     pub gap: f64,
     /// Held back by gap control (the command waits, §5.6.3).
     pub waiting: bool,
+    /// A gear-in is running and the slave is synchronous (`inSync`, §5.8.1).
+    pub in_sync: bool,
+    /// Master mover of a running gear-in.
+    pub gear_master: Option<String>,
 }
 
 /// A track (`MCTOPLC_STD` and online values, §1.6, §3.3).

@@ -281,14 +281,4 @@ fn cross_track_move_through_the_switch() {
         "F waits at {f_cum}, gap boundary {}",
         l1 - 100.0
     );
-    // M moves on along T3's end: F follows and arrives.
-    s.ok(mot("M", "", 130.0));
-    let _ = s.ok(mot("F", "T4", 0.0));
-    s.run_until(10.0, |sn| {
-        sn.mover("F")
-            .unwrap()
-            .on_track
-            .as_ref()
-            .is_some_and(|o| o.track == "T4")
-    });
 }

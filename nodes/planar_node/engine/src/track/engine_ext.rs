@@ -4,7 +4,7 @@
 
 use super::gap::{reach, step_ok, AIM_INSIDE, GAP_EPS};
 use super::geometry::{GeometryError, TrackPose};
-use super::{Track, TrackMotion, TrackOperationMode, TrackTarget};
+use super::{GearIn, SyncDirections, Track, TrackMotion, TrackOperationMode, TrackTarget};
 use crate::admission::CommandKind;
 use crate::command::PlanarCommand;
 use crate::engine::{end, ev, traj_err, PlanarEngine};
@@ -465,6 +465,35 @@ impl PlanarEngine {
             } => {
                 let i = self.mover(&mover)?;
                 self.adopt_track_orientation(i, constraint, options)
+            }
+            C::GearInPosOnTrackWithMasterMover {
+                mover,
+                master_mover,
+                track_trail,
+                master_sync_position,
+                master_sync_position_track,
+                slave_sync_position,
+                slave_sync_position_track,
+                constraint,
+                options,
+            } => {
+                let i = self.mover(&mover)?;
+                let j = self.mover(&master_mover)?;
+                let trail = track_trail
+                    .iter()
+                    .map(|t| self.track(t))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let mk = self.track(&master_sync_position_track)?;
+                let sk = self.track(&slave_sync_position_track)?;
+                self.gear_in(
+                    i,
+                    j,
+                    trail,
+                    (master_sync_position, mk),
+                    (slave_sync_position, sk),
+                    constraint,
+                    options,
+                )
             }
             C::TrackAppendPosition { track, position } => {
                 let k = self.track(&track)?;
@@ -1106,6 +1135,7 @@ impl PlanarEngine {
         tm.plan = Some((prof, 0.0));
         tm.plan_dyn = dyn_;
         tm.cmd_dyn = dyn_;
+        tm.gear = None;
         tm.target = TrackTarget::Position(r_target);
         tm.gap = options.gap;
         tm.route = route;
@@ -1168,6 +1198,348 @@ impl PlanarEngine {
         }
         r.reverse();
         Some(r)
+    }
+
+    // ------------------------------------------------------------------ gear-in (§5.8)
+
+    /// Route coordinate of the start of track `k` for a mover (None if not on its way).
+    fn start_r(&self, tm: &TrackMotion, k: usize) -> Option<f64> {
+        if k == tm.track {
+            return Some(tm.base);
+        }
+        let mut r = tm.base + self.tracks[tm.track].length();
+        for &x in &tm.route {
+            if x == k {
+                return Some(r);
+            }
+            r += self.tracks[x].length();
+        }
+        None
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn gear_in(
+        &mut self,
+        i: usize,
+        j: usize,
+        trail: Vec<usize>,
+        (m_sync, mk): (f64, usize),
+        (s_sync, sk): (f64, usize),
+        constraint: DynamicConstraint,
+        o: super::GearInPosOnTrackWithMasterMoverOptions,
+    ) -> Result<PlanarReply, Rejection> {
+        let who = format!("mover '{}'", self.movers[i].name);
+        finite(&who, "master_sync_position", m_sync)?;
+        finite(&who, "slave_sync_position", s_sync)?;
+        for (f, v) in [
+            ("options.gap", o.gap),
+            (
+                "options.in_sync_tolerance_distance",
+                o.in_sync_tolerance_distance,
+            ),
+            (
+                "options.modulo_tolerance_slave_sync_position",
+                o.modulo_tolerance_slave_sync_position,
+            ),
+            (
+                "options.modulo_tolerance_master_sync_position",
+                o.modulo_tolerance_master_sync_position,
+            ),
+        ] {
+            if finite(&who, f, v)? < 0.0 {
+                return Err(reject(E_INVALID_PARAMETER, format!("{who}: {f} = {v} < 0")));
+            }
+        }
+        self.require_enabled(i, "GearInPosOnTrackWithMasterMover")?;
+        self.require_mode(i, CommandKind::GearIn, "GearInPosOnTrackWithMasterMover")?;
+        if i == j {
+            return Err(reject(
+                E_INVALID_PARAMETER,
+                format!("{who}: master = slave"),
+            ));
+        }
+        let master = &self.movers[j];
+        if master.sm.state != PlanarState::Enabled {
+            return Err(reject(
+                E_INVALID_STATE,
+                format!("{who}: master '{}' is {:?}", master.name, master.sm.state),
+            ));
+        }
+        let Some(mt) = master.track.as_ref() else {
+            return Err(reject(
+                E_INVALID_COMMAND_MODE,
+                format!("{who}: master '{}' is not on a track", master.name),
+            ));
+        };
+        let tm = self.movers[i].track.as_ref().expect("OnTrack");
+        let cur = tm.track;
+        let mut trail = trail;
+        if trail.is_empty() {
+            trail.push(cur);
+            if o.follow_mover && mt.track != cur {
+                // The shortest way to the master's track, then the master's path.
+                if let Some(r) = self.route(cur, mt.track) {
+                    trail.extend(r);
+                }
+            }
+            if o.follow_mover {
+                for &k in &mt.route {
+                    if !trail.contains(&k) {
+                        trail.push(k);
+                    }
+                }
+            }
+        }
+        let distinct = trail
+            .iter()
+            .enumerate()
+            .all(|(a, x)| !trail[..a].contains(x));
+        let contiguous = trail
+            .windows(2)
+            .all(|w| self.tracks[w[0]].next.contains(&w[1]));
+        if trail[0] != cur || !distinct || !contiguous || !trail.contains(&sk) {
+            return Err(reject(
+                E_TRACKTRAIL_INVALID,
+                format!(
+                    "{who}: trail {:?} must start with the current track, be contiguous and distinct, and hold the slave sync track",
+                    trail.iter().map(|&k| &self.tracks[k].name).collect::<Vec<_>>()
+                ),
+            ));
+        }
+        let modes = self.track_modes();
+        for &k in &trail {
+            if modes[k] == TrackOperationMode::Configuring {
+                return Err(reject(
+                    E_TRACK_MODE_CONFLICT,
+                    format!("{who}: track '{}' is Configuring", self.tracks[k].name),
+                ));
+            }
+        }
+        let Some(master_origin) = self.start_r(mt, mk) else {
+            return Err(reject(
+                E_TARGET_UNREACHABLE,
+                format!(
+                    "{who}: the master is not on its way to track '{}'",
+                    self.tracks[mk].name
+                ),
+            ));
+        };
+        let mut probe = tm.clone();
+        probe.route = trail[1..].to_vec();
+        let slave_origin = self.start_r(&probe, sk).expect("sync track in the trail");
+        let modulo =
+            |k: usize, x: f64, now: f64, tol: f64, dir: Direction| -> Result<f64, Rejection> {
+                let t = &self.tracks[k];
+                if !t.geo.closed() || dir == Direction::NonModulo {
+                    return Ok(x);
+                }
+                modulo_target(x, now, t.length(), tol, dir, 0)
+                    .map_err(|_| reject(E_INVALID_PARAMETER, format!("{who}: modulo options")))
+            };
+        let m_now = mt.r - master_origin;
+        let m_sync = modulo(
+            mk,
+            m_sync,
+            m_now,
+            o.modulo_tolerance_master_sync_position,
+            o.direction_master_sync_position,
+        )?;
+        let s_sync = slave_origin
+            + modulo(
+                sk,
+                s_sync,
+                tm.r - slave_origin,
+                o.modulo_tolerance_slave_sync_position,
+                o.direction_slave_sync_position,
+            )?;
+        let closed = self.tracks[cur].geo.closed();
+        let (lo, hi) = if closed {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            let hi = tm.base + trail.iter().map(|&k| self.tracks[k].length()).sum::<f64>();
+            (tm.base, hi)
+        };
+        let m = &self.movers[i];
+        let (dyn_, reduced) = Dynamics::resolve(
+            &m.cfg.default_dynamics,
+            &m.cfg.max_dynamics,
+            &constraint,
+            &who,
+            "constraint",
+        )?;
+        let id = self.new_id();
+        let ev_ = &mut self.pending;
+        let m = &mut self.movers[i];
+        end(ev_, &mut m.xy_cmd, CommandState::Aborted);
+        end(ev_, &mut m.halt_cmd, CommandState::Aborted);
+        let tm = m.track.as_mut().expect("OnTrack");
+        tm.target = TrackTarget::None;
+        tm.route = trail[1..].to_vec();
+        tm.gap = o.gap;
+        tm.cmd_dyn = dyn_;
+        tm.limited = false;
+        tm.gear = Some(GearIn {
+            master: j,
+            master_origin,
+            m_sync,
+            s_sync,
+            lo,
+            hi,
+            dyn_,
+            tol: o.in_sync_tolerance_distance.max(1e-3),
+            allowed: o.allowed_slave_sync_directions,
+            follow: o.follow_mover,
+            in_sync: false,
+            ever_synced: false,
+            boundary: false,
+        });
+        m.xy_cmd = Some(id);
+        m.guard_stop = false;
+        m.warning = if reduced {
+            W_DYNAMICS_REDUCED
+        } else {
+            ErrorId::NONE
+        };
+        ev(ev_, id, CommandState::Active);
+        Ok(PlanarReply {
+            id,
+            warning_id: m.warning,
+            value: ReplyValue::None,
+        })
+    }
+
+    /// One cycle of a gear-in: follow the master's path (followMover), compute the target
+    /// `s*`, `inSync`, and a fresh time-optimal chase plan to (s* + ṁ·T, ṁ); brake exactly to
+    /// the trail boundary when the chase would pass it (§5.8.1).
+    fn gear_step(&mut self, i: usize, dt: f64) {
+        let Some(tm) = self.movers[i].track.as_ref() else {
+            return;
+        };
+        let Some(g) = tm.gear.as_ref() else {
+            return;
+        };
+        if g.boundary || tm.braking {
+            return;
+        }
+        let Some(mt) = self.movers[g.master].track.as_ref() else {
+            // The master left its track: the coupling ends.
+            let ev_ = &mut self.pending;
+            let m = &mut self.movers[i];
+            end(ev_, &mut m.xy_cmd, CommandState::Error(E_OBJECT_ERROR));
+            let d = m.cfg.default_dynamics;
+            if let Some(t) = &mut m.track {
+                t.plan_stop(&d);
+            }
+            return;
+        };
+        // followMover: the slave's way grows with the master's path.
+        let mut extend: Vec<usize> = Vec::new();
+        if g.follow {
+            let mut last = *tm.route.last().unwrap_or(&tm.track);
+            for k in std::iter::once(mt.track).chain(mt.route.iter().copied()) {
+                if k != tm.track
+                    && !tm.route.contains(&k)
+                    && !extend.contains(&k)
+                    && self.tracks[last].next.contains(&k)
+                {
+                    extend.push(k);
+                    last = k;
+                }
+            }
+        }
+        let m_pos = mt.r - g.master_origin;
+        let mv = mt.v;
+        let s_star = g.s_sync + (m_pos - g.m_sync);
+        let in_sync = (tm.r - s_star).abs() <= g.tol && (tm.v - mv).abs() <= 0.1;
+        let lim = limits_of(&g.dyn_);
+        let state = tm.state();
+        // The master's state after `h` seconds: its own plan if it has one (exact), else
+        // constant velocity (§5.8.1).
+        let predict = |h: f64| -> (f64, f64) {
+            match &mt.plan {
+                Some((mp, t)) => {
+                    let x = mp.at((t + h).min(mp.duration()));
+                    (
+                        x.pos - g.master_origin,
+                        if t + h >= mp.duration() { 0.0 } else { x.vel },
+                    )
+                }
+                None => (m_pos + mv * h, mv),
+            }
+        };
+        let goal = |h: f64| {
+            let (m, v) = predict(h);
+            (
+                g.s_sync + (m - g.m_sync),
+                v.clamp(-lim.velocity, lim.velocity),
+            )
+        };
+        let (g0, v0) = goal(0.0);
+        let mut p = Profile1::to_position(state, g0, v0, &lim).ok();
+        for _ in 0..4 {
+            let h = p.as_ref().map(|x| x.duration()).unwrap_or(0.0);
+            let (gh, vh) = goal(h);
+            if let Ok(q) = Profile1::to_position(state, gh, vh, &lim) {
+                p = Some(q);
+            }
+        }
+        let d = (g.dyn_.deceleration, g.dyn_.jerk);
+        // allowedSlaveSyncDirections restricts the velocity sign until first synchronous.
+        if !g.ever_synced {
+            if let Some(q) = &p {
+                let c = q.at(dt.min(q.duration()));
+                let wrong = match g.allowed {
+                    SyncDirections::Positive => c.vel < -1e-9,
+                    SyncDirections::Negative => c.vel > 1e-9,
+                    SyncDirections::Both => false,
+                };
+                if wrong {
+                    p = if tm.v == 0.0 && tm.a == 0.0 {
+                        None
+                    } else {
+                        Profile1::stopping(state, &lim).ok()
+                    };
+                }
+            }
+        }
+        // Trail boundary: if the master drives the slave out of its trail (the coupled
+        // position where the master comes to rest lies outside), brake at the last moment so
+        // that the slave stops exactly on the boundary (error follows); a chase transient that
+        // would touch the boundary only holds the slave back.
+        let mut boundary = false;
+        if let Some(q) = &p {
+            let c = q.at(dt.min(q.duration()));
+            let (lo, hi) = reach(c.pos, c.vel, c.acc, d.0, d.1);
+            if hi > g.hi + 1e-9 || lo < g.lo - 1e-9 {
+                let (m_end, _) = predict(1e9);
+                let s_final = g.s_sync + (m_end - g.m_sync);
+                let beyond = hi > g.hi + 1e-9;
+                if (beyond && s_final > g.hi) || (!beyond && s_final < g.lo) {
+                    let edge = if beyond { g.hi } else { g.lo };
+                    p = Profile1::to_position(state, edge, 0.0, &lim)
+                        .or_else(|_| Profile1::stopping(state, &lim))
+                        .ok();
+                    boundary = true;
+                } else {
+                    p = if tm.v == 0.0 && tm.a == 0.0 {
+                        None
+                    } else {
+                        Profile1::stopping(state, &lim).ok()
+                    };
+                }
+            }
+        }
+        let lens: f64 = extend.iter().map(|&k| self.tracks[k].length()).sum();
+        let m = &mut self.movers[i];
+        let tm = m.track.as_mut().expect("on track");
+        tm.route.extend(extend);
+        tm.plan = p.map(|q| (q, 0.0));
+        tm.plan_dyn = tm.cmd_dyn;
+        let g = tm.gear.as_mut().expect("gear");
+        g.hi += lens;
+        g.in_sync = in_sync;
+        g.ever_synced |= in_sync;
+        g.boundary = boundary;
     }
 
     // ------------------------------------------------------------------ the on-track cycle
@@ -1279,6 +1651,8 @@ impl PlanarEngine {
             self.finish_idle(i);
             return;
         }
+        // 0. Gear-in: a fresh chase plan towards the moving target (§5.8.1).
+        self.gear_step(i, dt);
         // 1. Plan maintenance: gap checks and re-plans (§5.6.3).
         let needs_limits = {
             let tm = self.movers[i].track.as_ref().expect("on track");
@@ -1462,6 +1836,16 @@ impl PlanarEngine {
         if plan_done {
             tm.plan = None;
             tm.braking = false;
+            if tm.gear.as_ref().is_some_and(|g| g.boundary) {
+                // §5.8.1: stopped exactly at the trail boundary; the coupling ends in error.
+                tm.gear = None;
+                end(
+                    ev_,
+                    &mut m.xy_cmd,
+                    CommandState::Error(E_TRACK_BOUNDARY_REACHED),
+                );
+            }
+            let tm = m.track.as_mut().expect("on track");
             if let TrackTarget::Position(x) = tm.target {
                 if (tm.r - x).abs() <= AT_TARGET {
                     tm.r = x;
@@ -1531,6 +1915,8 @@ impl PlanarEngine {
             set_acc: tm.a,
             gap: tm.gap,
             waiting: tm.limited || (tm.plan.is_none() && tm.target != TrackTarget::None),
+            in_sync: tm.gear.as_ref().is_some_and(|g| g.in_sync),
+            gear_master: tm.gear.as_ref().map(|g| self.movers[g.master].name.clone()),
         })
     }
 

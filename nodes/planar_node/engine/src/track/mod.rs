@@ -91,6 +91,77 @@ pub struct TrackLinkAdvancedOptions {
     pub link_only_in_specified_part_positions: bool,
 }
 
+/// `MC_SYNC_DIRECTIONS` (§4.1): slave directions allowed while synchronising.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum SyncDirections {
+    /// Forward only (1); default.
+    #[default]
+    Positive = 1,
+    /// Backward only (2).
+    Negative = 2,
+    /// Both (3).
+    Both = 3,
+}
+
+/// `ST_GearInPosOnTrackWithMasterMoverOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GearInPosOnTrackWithMasterMoverOptions {
+    /// Minimal distance to the next mover on the track \[mm\] (default 200).
+    pub gap: f64,
+    /// Allowed |position difference| for `inSync` \[mm\] (default 0 → 1e-3).
+    pub in_sync_tolerance_distance: f64,
+    /// How the slave sync position is approached on a closed loop (default NonModulo).
+    pub direction_slave_sync_position: Direction,
+    /// Modulo tolerance of the slave sync position \[mm\].
+    pub modulo_tolerance_slave_sync_position: f64,
+    /// How the master sync position is interpreted on a closed loop (default NonModulo).
+    pub direction_master_sync_position: Direction,
+    /// Modulo tolerance of the master sync position \[mm\].
+    pub modulo_tolerance_master_sync_position: f64,
+    /// Slave directions while synchronising (default Positive).
+    pub allowed_slave_sync_directions: SyncDirections,
+    /// TRUE: after the master passed the sync position the slave follows its path.
+    pub follow_mover: bool,
+}
+
+impl Default for GearInPosOnTrackWithMasterMoverOptions {
+    fn default() -> Self {
+        GearInPosOnTrackWithMasterMoverOptions {
+            gap: DEFAULT_GAP,
+            in_sync_tolerance_distance: 0.0,
+            direction_slave_sync_position: Direction::NonModulo,
+            modulo_tolerance_slave_sync_position: 0.0,
+            direction_master_sync_position: Direction::NonModulo,
+            modulo_tolerance_master_sync_position: 0.0,
+            allowed_slave_sync_directions: SyncDirections::Positive,
+            follow_mover: false,
+        }
+    }
+}
+
+/// A running gear-in of a slave on its trail (§5.8): `s*(t) = s_sync + (m(t) − m_sync)`.
+#[derive(Clone, Debug)]
+pub(crate) struct GearIn {
+    pub master: usize,
+    /// Master route coordinate of the start of the master sync track.
+    pub master_origin: f64,
+    pub m_sync: f64,
+    /// Slave sync position (slave route coordinate).
+    pub s_sync: f64,
+    /// Trail bounds (slave route coordinates).
+    pub lo: f64,
+    pub hi: f64,
+    pub dyn_: Dynamics,
+    pub tol: f64,
+    pub allowed: SyncDirections,
+    pub follow: bool,
+    pub in_sync: bool,
+    pub ever_synced: bool,
+    /// Braking to the trail boundary (ends with E_TRACK_BOUNDARY_REACHED).
+    pub boundary: bool,
+}
+
 /// MC_PlanarTrack.
 #[derive(Clone, Debug)]
 pub(crate) struct Track {
@@ -164,6 +235,8 @@ pub(crate) struct TrackMotion {
     pub c_off: f64,
     /// AdoptTrackOrientation running: C becomes dependent when it ends on the heading.
     pub adopt: bool,
+    /// Gear-in on a master mover running (§5.8).
+    pub gear: Option<GearIn>,
 }
 
 impl TrackMotion {
@@ -187,6 +260,7 @@ impl TrackMotion {
             slot: 0,
             c_off: 0.0,
             adopt: false,
+            gear: None,
         }
     }
 
@@ -205,12 +279,16 @@ impl TrackMotion {
 
     /// A plan or a pending target keeps the mover (and its tracks) Moving.
     pub fn active(&self) -> bool {
-        self.plan.is_some() || self.target != TrackTarget::None || self.v != 0.0
+        self.plan.is_some()
+            || self.target != TrackTarget::None
+            || self.v != 0.0
+            || self.gear.is_some()
     }
 
     /// Stops along the track with `d` (Halt, Disable, QuickStop): a committed stop.
     pub fn plan_stop(&mut self, d: &Dynamics) {
         self.target = TrackTarget::None;
+        self.gear = None;
         self.route.clear();
         self.limited = false;
         if self.v == 0.0 && self.a == 0.0 {
@@ -230,6 +308,7 @@ impl TrackMotion {
         self.v = 0.0;
         self.a = 0.0;
         self.target = TrackTarget::None;
+        self.gear = None;
         self.route.clear();
         self.braking = false;
         self.limited = false;
