@@ -2,8 +2,8 @@
 //! addressed by their configured names). Feedback objects are the returned [`motion_core::CmdId`].
 
 use crate::track::{
-    AdoptTrackOrientationOptions, GearInPosOnTrackWithMasterMoverOptions, MoveOnTrackOptions,
-    TrackLinkAdvancedOptions,
+    AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,
+    MoveOnTrackOptions, TrackLinkAdvancedOptions,
 };
 use crate::types::{
     DynamicConstraint, ErrorReaction, ExternalSetpointGenerationOptions, MoveCOptions,
@@ -255,6 +255,59 @@ pub enum PlanarCommand {
         constraint: DynamicConstraint,
         /// Options.
         options: GearInPosOnTrackWithMasterMoverOptions,
+    },
+    /// `GearInPosOnTrack(fb, masterAxis, trackTrail, masterSyncPosition, slaveSyncPosition,
+    /// slaveSyncPositionTrack, constraint, options)` with a virtual master axis (§5.8).
+    GearInPosOnTrack {
+        /// Slave mover name.
+        mover: String,
+        /// Virtual master axis name.
+        master_axis: String,
+        /// Track trail (names in order); empty = the slave's current track only.
+        track_trail: Vec<String>,
+        /// Master axis position for synchronism \[mm\].
+        master_sync_position: f64,
+        /// Slave position for synchronism \[mm\].
+        slave_sync_position: f64,
+        /// Track of the slave sync position.
+        slave_sync_position_track: String,
+        /// Tangential limits (0 = default).
+        constraint: DynamicConstraint,
+        /// Options.
+        options: GearInPosOnTrackOptions,
+    },
+
+    // --- virtual master axes (§5.8.4)
+    /// Power (Enable level) of a virtual axis.
+    AxisPower {
+        /// Axis name.
+        axis: String,
+        /// Enable.
+        enable: bool,
+    },
+    /// MoveAbsolute of a virtual axis.
+    AxisMoveAbsolute {
+        /// Axis name.
+        axis: String,
+        /// Target \[mm\].
+        position: f64,
+        /// Velocity \[mm/s\] (> 0).
+        velocity: f64,
+        /// Acceleration \[mm/s²\] (> 0).
+        acceleration: f64,
+        /// Deceleration \[mm/s²\] (> 0).
+        deceleration: f64,
+        /// Jerk \[mm/s³\] (> 0).
+        jerk: f64,
+    },
+    /// Halt of a virtual axis.
+    AxisHalt {
+        /// Axis name.
+        axis: String,
+        /// Deceleration \[mm/s²\] (> 0).
+        deceleration: f64,
+        /// Jerk \[mm/s³\] (> 0).
+        jerk: f64,
     },
 
     // --- MC_PlanarTrack (§3.3)

@@ -15,8 +15,8 @@
 //! groups: [{name: G}]
 //! ```
 //! Tracks (`tracks: [{name: T1, oid: 0x01050001, part_oid: 0x01010020}]`) are configured
-//! objects whose geometry is built by commands (§1.11); virtual axes (`axes:`) arrive later
-//! and are refused as unknown until then.
+//! objects whose geometry is built by commands (§1.11); virtual master axes
+//! (`axes: [{name: X}]`, §5.8.4) drive GearInPosOnTrack.
 
 use crate::errors::reject;
 use crate::geometry::{tiles_overlap, ConvexPolygon, STATOR_SIDE, V2};
@@ -75,6 +75,9 @@ pub struct PlanarConfig {
     /// Tracks (§1.6); geometry comes from the track commands.
     #[serde(default)]
     pub tracks: Vec<TrackConfig>,
+    /// Virtual master axes for GearInPosOnTrack (§5.8.4).
+    #[serde(default)]
+    pub axes: Vec<VirtualAxisConfig>,
     /// Enabling → Enabled \[s\] (default 0.1).
     #[serde(default = "d_state_time")]
     pub enable_time: f64,
@@ -105,6 +108,7 @@ impl Default for PlanarConfig {
             movers: vec![],
             groups: vec![],
             tracks: vec![],
+            axes: vec![],
             enable_time: d_state_time(),
             disable_time: d_state_time(),
             reset_time: d_state_time(),
@@ -312,6 +316,20 @@ pub struct GroupConfig {
     /// Name used in commands.
     pub name: String,
     /// OID (0 → [`AUTO_GROUP_OID`] + index).
+    #[serde(default)]
+    pub oid: u32,
+}
+
+/// First OID given to virtual axes configured without one.
+pub const AUTO_AXIS_OID: u32 = 0x0106_0000;
+
+/// `axes:` entry: a virtual master axis (§5.8.4).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VirtualAxisConfig {
+    /// Name used in commands.
+    pub name: String,
+    /// OID (0 → [`AUTO_AXIS_OID`] + index).
     #[serde(default)]
     pub oid: u32,
 }
@@ -696,7 +714,27 @@ impl PlanarConfig {
                 ));
             }
         }
+        let mut anames: HashSet<&str> = HashSet::new();
+        for (i, a) in self.axes.iter().enumerate() {
+            let key = format!("axes[{i}]");
+            uniq(&format!("{key}.oid"), self.axis_oid(i))?;
+            if a.name.is_empty() || !anames.insert(&a.name) {
+                return Err(bad(
+                    &format!("{key}.name"),
+                    &a.name,
+                    "names must be non-empty and unique among axes",
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// OID of virtual axis `i`.
+    pub(crate) fn axis_oid(&self, i: usize) -> u32 {
+        match self.axes[i].oid {
+            0 => AUTO_AXIS_OID + i as u32 + 1,
+            o => o,
+        }
     }
 
     /// OID of track `i` (configured or automatic).

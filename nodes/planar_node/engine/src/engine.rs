@@ -45,6 +45,9 @@ pub struct PlanarEngine {
     /// Tracks in configuration order (§1.6).
     pub(crate) tracks: Vec<crate::track::Track>,
     pub(crate) track_idx: HashMap<String, usize>,
+    /// Virtual master axes (§5.8.4).
+    pub(crate) axes: Vec<crate::track::VirtualAxis>,
+    pub(crate) axis_idx: HashMap<String, usize>,
 }
 
 pub(crate) fn ev(events: &mut Vec<CommandEvent>, id: CmdId, state: CommandState) {
@@ -162,6 +165,7 @@ impl PlanarEngine {
             .map(|(i, g)| (g.name.clone(), i))
             .collect();
         let (tracks, track_idx) = crate::track::build_tracks(&cfg, &parts);
+        let (axes, axis_idx) = crate::track::build_axes(&cfg);
         let part_idx = parts
             .iter()
             .enumerate()
@@ -199,6 +203,8 @@ impl PlanarEngine {
             last_object_info: PlanarObjectInfo::default(),
             tracks,
             track_idx,
+            axes,
+            axis_idx,
         })
     }
 
@@ -2409,6 +2415,7 @@ impl Engine for PlanarEngine {
         self.step_parts(dt);
         self.step_states(dt);
         self.step_tracks(dt);
+        self.step_axes(dt);
         self.step_motion(dt);
         self.time += dt;
         events.append(&mut self.pending);
@@ -2465,6 +2472,7 @@ impl Engine for PlanarEngine {
                 })
                 .collect(),
             tracks: self.track_snapshots(),
+            axes: self.axis_snapshots(),
         }
     }
 

@@ -36,18 +36,18 @@ pub use admission::{admissible, AdmissionContext, CommandKind};
 pub use command::{ObjectKind, PlanarCommand};
 pub use config::{
     EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig, PartPositionConfig,
-    PlanarConfig, TrackConfig,
+    PlanarConfig, TrackConfig, VirtualAxisConfig,
 };
 pub use engine::PlanarEngine;
 pub use snapshot::{
     ActiveCommands, BusyFlags, EnvironmentSnapshot, GroupSnapshot, MoverSnapshot, OnTrackSnapshot,
-    PartSnapshot, PlanarReply, PlanarSnapshot, ReplyValue, TrackSnapshot,
+    PartSnapshot, PlanarReply, PlanarSnapshot, ReplyValue, TrackSnapshot, VirtualAxisSnapshot,
 };
 pub use state::Timing;
 pub use track::bench::bench_loop;
 pub use track::geometry::{TrackGeometry, TrackPose};
 pub use track::{
-    AdoptTrackOrientationOptions, GearInPosOnTrackWithMasterMoverOptions, MoveOnTrackOptions,
-    SyncDirections, TrackLinkAdvancedOptions, TrackOperationMode, DEFAULT_GAP,
+    AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,
+    MoveOnTrackOptions, SyncDirections, TrackLinkAdvancedOptions, TrackOperationMode, DEFAULT_GAP,
 };
 pub use types::*;

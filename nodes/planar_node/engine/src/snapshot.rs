@@ -214,6 +214,27 @@ pub struct PlanarSnapshot {
     pub parts: Vec<PartSnapshot>,
     /// Tracks in configuration order.
     pub tracks: Vec<TrackSnapshot>,
+    /// Virtual master axes in configuration order (§5.8.4).
+    pub axes: Vec<VirtualAxisSnapshot>,
+}
+
+/// A virtual master axis (§5.8.4).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VirtualAxisSnapshot {
+    /// Name.
+    pub name: String,
+    /// OID.
+    pub oid: u32,
+    /// Power enabled.
+    pub powered: bool,
+    /// Position \[mm\].
+    pub position: f64,
+    /// Velocity \[mm/s\].
+    pub velocity: f64,
+    /// Acceleration \[mm/s²\].
+    pub acceleration: f64,
+    /// A MoveAbsolute/Halt is running.
+    pub busy: bool,
 }
 
 impl PlanarSnapshot {

@@ -4,7 +4,7 @@
 
 use super::gap::{reach, step_ok, AIM_INSIDE, GAP_EPS};
 use super::geometry::{GeometryError, TrackPose};
-use super::{GearIn, SyncDirections, Track, TrackMotion, TrackOperationMode, TrackTarget};
+use super::{GearIn, Master, SyncDirections, Track, TrackMotion, TrackOperationMode, TrackTarget};
 use crate::admission::CommandKind;
 use crate::command::PlanarCommand;
 use crate::engine::{end, ev, traj_err, PlanarEngine};
@@ -487,13 +487,99 @@ impl PlanarEngine {
                 let sk = self.track(&slave_sync_position_track)?;
                 self.gear_in(
                     i,
-                    j,
+                    Master::Mover(j),
                     trail,
-                    (master_sync_position, mk),
+                    (master_sync_position, Some(mk)),
                     (slave_sync_position, sk),
                     constraint,
                     options,
                 )
+            }
+            C::GearInPosOnTrack {
+                mover,
+                master_axis,
+                track_trail,
+                master_sync_position,
+                slave_sync_position,
+                slave_sync_position_track,
+                constraint,
+                options,
+            } => {
+                let i = self.mover(&mover)?;
+                let Some(&a) = self.axis_idx.get(&master_axis) else {
+                    return Err(reject(
+                        E_INVALID_PARAMETER,
+                        format!("mover '{mover}': unknown master axis '{master_axis}'"),
+                    ));
+                };
+                let trail = track_trail
+                    .iter()
+                    .map(|t| self.track(t))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let sk = self.track(&slave_sync_position_track)?;
+                let o = super::GearInPosOnTrackWithMasterMoverOptions {
+                    gap: options.gap,
+                    in_sync_tolerance_distance: options.in_sync_tolerance_distance,
+                    direction_slave_sync_position: options.direction_slave_sync_position,
+                    modulo_tolerance_slave_sync_position: options
+                        .modulo_tolerance_slave_sync_position,
+                    allowed_slave_sync_directions: options.allowed_slave_sync_directions,
+                    ..Default::default()
+                };
+                self.gear_in(
+                    i,
+                    Master::Axis(a),
+                    trail,
+                    (master_sync_position, None),
+                    (slave_sync_position, sk),
+                    constraint,
+                    o,
+                )
+            }
+            C::AxisPower { axis, enable } => {
+                let a = self.axis(&axis)?;
+                if !enable && self.axes[a].ax.moving() {
+                    // Power off stops at once (set point frozen).
+                    self.axes[a].ax.freeze();
+                    let ev_ = &mut self.pending;
+                    end(ev_, &mut self.axes[a].cmd, CommandState::Aborted);
+                }
+                self.axes[a].powered = enable;
+                self.done_now()
+            }
+            C::AxisMoveAbsolute {
+                axis,
+                position,
+                velocity,
+                acceleration,
+                deceleration,
+                jerk,
+            } => {
+                let a = self.axis(&axis)?;
+                let who = format!("axis '{axis}'");
+                finite(&who, "position", position)?;
+                let d = Dynamics {
+                    velocity: finite(&who, "velocity", velocity)?,
+                    acceleration: finite(&who, "acceleration", acceleration)?,
+                    deceleration: finite(&who, "deceleration", deceleration)?,
+                    jerk: finite(&who, "jerk", jerk)?,
+                };
+                self.axis_move(a, &who, |ax| ax.plan_to(position, &d))
+            }
+            C::AxisHalt {
+                axis,
+                deceleration,
+                jerk,
+            } => {
+                let a = self.axis(&axis)?;
+                let who = format!("axis '{axis}'");
+                let d = Dynamics {
+                    velocity: f64::MAX / 4.0,
+                    acceleration: finite(&who, "deceleration", deceleration)?,
+                    deceleration: finite(&who, "deceleration", deceleration)?,
+                    jerk: finite(&who, "jerk", jerk)?,
+                };
+                self.axis_move(a, &who, |ax| ax.plan_stop(&d))
             }
             C::TrackAppendPosition { track, position } => {
                 let k = self.track(&track)?;
@@ -1200,7 +1286,86 @@ impl PlanarEngine {
         Some(r)
     }
 
+    // ------------------------------------------------------------------ virtual axes (§5.8.4)
+
+    fn axis(&self, name: &str) -> Result<usize, Rejection> {
+        self.axis_idx
+            .get(name)
+            .copied()
+            .ok_or_else(|| Rejection::unknown_object("axis", name))
+    }
+
+    fn axis_move(
+        &mut self,
+        a: usize,
+        who: &str,
+        plan: impl FnOnce(
+            &crate::motion::Axis1,
+        ) -> Result<Profile1, motion_core::trajectory::TrajectoryError>,
+    ) -> Result<PlanarReply, Rejection> {
+        if !self.axes[a].powered {
+            return Err(reject(E_INVALID_STATE, format!("{who}: not powered")));
+        }
+        let p = plan(&self.axes[a].ax).map_err(|e| traj_err(who, e))?;
+        let id = self.new_id();
+        let ev_ = &mut self.pending;
+        let x = &mut self.axes[a];
+        end(ev_, &mut x.cmd, CommandState::Aborted);
+        x.ax.start(p);
+        x.cmd = Some(id);
+        ev(ev_, id, CommandState::Active);
+        reply(id, ReplyValue::None)
+    }
+
+    /// Advances the virtual axes (before the movers, so slaves see the new master state).
+    pub(crate) fn step_axes(&mut self, dt: f64) {
+        for x in &mut self.axes {
+            if x.ax.advance(dt) {
+                end(&mut self.pending, &mut x.cmd, CommandState::Done);
+            }
+        }
+    }
+
+    pub(crate) fn axis_snapshots(&self) -> Vec<crate::snapshot::VirtualAxisSnapshot> {
+        self.axes
+            .iter()
+            .map(|x| crate::snapshot::VirtualAxisSnapshot {
+                name: x.name.clone(),
+                oid: x.oid,
+                powered: x.powered,
+                position: x.ax.pos,
+                velocity: x.ax.vel,
+                acceleration: x.ax.acc,
+                busy: x.cmd.is_some(),
+            })
+            .collect()
+    }
+
     // ------------------------------------------------------------------ gear-in (§5.8)
+
+    /// Master position (relative to its sync origin) and velocity `h` seconds ahead: along
+    /// its own plan (exact), else at constant velocity. None if a master mover left its track.
+    fn master_state(&self, g: &GearIn, h: f64) -> Option<(f64, f64)> {
+        match g.master {
+            Master::Mover(j) => {
+                let mt = self.movers[j].track.as_ref()?;
+                Some(match &mt.plan {
+                    Some((mp, t)) => {
+                        let x = mp.at((t + h).min(mp.duration()));
+                        (
+                            x.pos - g.master_origin,
+                            if t + h >= mp.duration() { 0.0 } else { x.vel },
+                        )
+                    }
+                    None => (mt.r + mt.v * h - g.master_origin, mt.v),
+                })
+            }
+            Master::Axis(a) => {
+                let x = self.axes[a].ax.predict(h);
+                Some((x.pos, x.vel))
+            }
+        }
+    }
 
     /// Route coordinate of the start of track `k` for a mover (None if not on its way).
     fn start_r(&self, tm: &TrackMotion, k: usize) -> Option<f64> {
@@ -1221,9 +1386,9 @@ impl PlanarEngine {
     fn gear_in(
         &mut self,
         i: usize,
-        j: usize,
+        master: Master,
         trail: Vec<usize>,
-        (m_sync, mk): (f64, usize),
+        (m_sync, mk): (f64, Option<usize>),
         (s_sync, sk): (f64, usize),
         constraint: DynamicConstraint,
         o: super::GearInPosOnTrackWithMasterMoverOptions,
@@ -1252,37 +1417,43 @@ impl PlanarEngine {
         }
         self.require_enabled(i, "GearInPosOnTrackWithMasterMover")?;
         self.require_mode(i, CommandKind::GearIn, "GearInPosOnTrackWithMasterMover")?;
-        if i == j {
-            return Err(reject(
-                E_INVALID_PARAMETER,
-                format!("{who}: master = slave"),
-            ));
-        }
-        let master = &self.movers[j];
-        if master.sm.state != PlanarState::Enabled {
-            return Err(reject(
-                E_INVALID_STATE,
-                format!("{who}: master '{}' is {:?}", master.name, master.sm.state),
-            ));
-        }
-        let Some(mt) = master.track.as_ref() else {
-            return Err(reject(
-                E_INVALID_COMMAND_MODE,
-                format!("{who}: master '{}' is not on a track", master.name),
-            ));
+        let mt = match master {
+            Master::Mover(j) => {
+                if i == j {
+                    return Err(reject(
+                        E_INVALID_PARAMETER,
+                        format!("{who}: master = slave"),
+                    ));
+                }
+                let mm = &self.movers[j];
+                if mm.sm.state != PlanarState::Enabled {
+                    return Err(reject(
+                        E_INVALID_STATE,
+                        format!("{who}: master '{}' is {:?}", mm.name, mm.sm.state),
+                    ));
+                }
+                let Some(mt) = mm.track.as_ref() else {
+                    return Err(reject(
+                        E_INVALID_COMMAND_MODE,
+                        format!("{who}: master '{}' is not on a track", mm.name),
+                    ));
+                };
+                Some(mt)
+            }
+            Master::Axis(_) => None,
         };
         let tm = self.movers[i].track.as_ref().expect("OnTrack");
         let cur = tm.track;
         let mut trail = trail;
         if trail.is_empty() {
             trail.push(cur);
-            if o.follow_mover && mt.track != cur {
-                // The shortest way to the master's track, then the master's path.
-                if let Some(r) = self.route(cur, mt.track) {
-                    trail.extend(r);
+            if let (true, Some(mt)) = (o.follow_mover, mt) {
+                if mt.track != cur {
+                    // The shortest way to the master's track, then the master's path.
+                    if let Some(r) = self.route(cur, mt.track) {
+                        trail.extend(r);
+                    }
                 }
-            }
-            if o.follow_mover {
                 for &k in &mt.route {
                     if !trail.contains(&k) {
                         trail.push(k);
@@ -1315,14 +1486,20 @@ impl PlanarEngine {
                 ));
             }
         }
-        let Some(master_origin) = self.start_r(mt, mk) else {
-            return Err(reject(
-                E_TARGET_UNREACHABLE,
-                format!(
-                    "{who}: the master is not on its way to track '{}'",
-                    self.tracks[mk].name
-                ),
-            ));
+        let master_origin = match (mt, mk) {
+            (Some(mt), Some(mk)) => match self.start_r(mt, mk) {
+                Some(o) => o,
+                None => {
+                    return Err(reject(
+                        E_TARGET_UNREACHABLE,
+                        format!(
+                            "{who}: the master is not on its way to track '{}'",
+                            self.tracks[mk].name
+                        ),
+                    ))
+                }
+            },
+            _ => 0.0,
         };
         let mut probe = tm.clone();
         probe.route = trail[1..].to_vec();
@@ -1336,14 +1513,16 @@ impl PlanarEngine {
                 modulo_target(x, now, t.length(), tol, dir, 0)
                     .map_err(|_| reject(E_INVALID_PARAMETER, format!("{who}: modulo options")))
             };
-        let m_now = mt.r - master_origin;
-        let m_sync = modulo(
-            mk,
-            m_sync,
-            m_now,
-            o.modulo_tolerance_master_sync_position,
-            o.direction_master_sync_position,
-        )?;
+        let m_sync = match (mt, mk) {
+            (Some(mt), Some(mk)) => modulo(
+                mk,
+                m_sync,
+                mt.r - master_origin,
+                o.modulo_tolerance_master_sync_position,
+                o.direction_master_sync_position,
+            )?,
+            _ => m_sync,
+        };
         let s_sync = slave_origin
             + modulo(
                 sk,
@@ -1379,7 +1558,7 @@ impl PlanarEngine {
         tm.cmd_dyn = dyn_;
         tm.limited = false;
         tm.gear = Some(GearIn {
-            master: j,
+            master,
             master_origin,
             m_sync,
             s_sync,
@@ -1421,7 +1600,7 @@ impl PlanarEngine {
         if g.boundary || tm.braking {
             return;
         }
-        let Some(mt) = self.movers[g.master].track.as_ref() else {
+        let Some((m_pos, mv)) = self.master_state(g, 0.0) else {
             // The master left its track: the coupling ends.
             let ev_ = &mut self.pending;
             let m = &mut self.movers[i];
@@ -1434,7 +1613,8 @@ impl PlanarEngine {
         };
         // followMover: the slave's way grows with the master's path.
         let mut extend: Vec<usize> = Vec::new();
-        if g.follow {
+        if let (true, Master::Mover(j)) = (g.follow, g.master) {
+            let mt = self.movers[j].track.as_ref().expect("master on a track");
             let mut last = *tm.route.last().unwrap_or(&tm.track);
             for k in std::iter::once(mt.track).chain(mt.route.iter().copied()) {
                 if k != tm.track
@@ -1447,26 +1627,13 @@ impl PlanarEngine {
                 }
             }
         }
-        let m_pos = mt.r - g.master_origin;
-        let mv = mt.v;
         let s_star = g.s_sync + (m_pos - g.m_sync);
         let in_sync = (tm.r - s_star).abs() <= g.tol && (tm.v - mv).abs() <= 0.1;
         let lim = limits_of(&g.dyn_);
         let state = tm.state();
         // The master's state after `h` seconds: its own plan if it has one (exact), else
         // constant velocity (§5.8.1).
-        let predict = |h: f64| -> (f64, f64) {
-            match &mt.plan {
-                Some((mp, t)) => {
-                    let x = mp.at((t + h).min(mp.duration()));
-                    (
-                        x.pos - g.master_origin,
-                        if t + h >= mp.duration() { 0.0 } else { x.vel },
-                    )
-                }
-                None => (m_pos + mv * h, mv),
-            }
-        };
+        let predict = |h: f64| self.master_state(g, h).unwrap_or((m_pos, 0.0));
         let goal = |h: f64| {
             let (m, v) = predict(h);
             (
@@ -1916,7 +2083,10 @@ impl PlanarEngine {
             gap: tm.gap,
             waiting: tm.limited || (tm.plan.is_none() && tm.target != TrackTarget::None),
             in_sync: tm.gear.as_ref().is_some_and(|g| g.in_sync),
-            gear_master: tm.gear.as_ref().map(|g| self.movers[g.master].name.clone()),
+            gear_master: tm.gear.as_ref().map(|g| match g.master {
+                Master::Mover(j) => self.movers[j].name.clone(),
+                Master::Axis(a) => self.axes[a].name.clone(),
+            }),
         })
     }
 

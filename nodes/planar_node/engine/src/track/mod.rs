@@ -140,10 +140,81 @@ impl Default for GearInPosOnTrackWithMasterMoverOptions {
     }
 }
 
+/// `ST_GearInPosOnTrackOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GearInPosOnTrackOptions {
+    /// Minimal distance to the next mover on the track \[mm\] (default 200).
+    pub gap: f64,
+    /// Allowed |position difference| for `inSync` \[mm\] (default 0 → 1e-3).
+    pub in_sync_tolerance_distance: f64,
+    /// How the slave sync position is approached on a closed loop (default NonModulo).
+    pub direction_slave_sync_position: Direction,
+    /// Modulo tolerance of the slave sync position \[mm\].
+    pub modulo_tolerance_slave_sync_position: f64,
+    /// Slave directions while synchronising (default Positive).
+    pub allowed_slave_sync_directions: SyncDirections,
+}
+
+impl Default for GearInPosOnTrackOptions {
+    fn default() -> Self {
+        GearInPosOnTrackOptions {
+            gap: DEFAULT_GAP,
+            in_sync_tolerance_distance: 0.0,
+            direction_slave_sync_position: Direction::NonModulo,
+            modulo_tolerance_slave_sync_position: 0.0,
+            allowed_slave_sync_directions: SyncDirections::Positive,
+        }
+    }
+}
+
+/// A virtual master axis (§5.8.4): Power, MoveAbsolute, Halt.
+#[derive(Clone, Debug)]
+pub(crate) struct VirtualAxis {
+    pub name: String,
+    pub oid: u32,
+    pub powered: bool,
+    pub ax: crate::motion::Axis1,
+    pub cmd: Option<motion_core::CmdId>,
+}
+
+/// Builds the configured virtual axes (unpowered, at 0) and their name index.
+pub(crate) fn build_axes(
+    cfg: &crate::config::PlanarConfig,
+) -> (Vec<VirtualAxis>, std::collections::HashMap<String, usize>) {
+    let axes: Vec<VirtualAxis> = cfg
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| VirtualAxis {
+            name: a.name.clone(),
+            oid: cfg.axis_oid(i),
+            powered: false,
+            ax: crate::motion::Axis1::at(0.0),
+            cmd: None,
+        })
+        .collect();
+    let idx = axes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| (a.name.clone(), i))
+        .collect();
+    (axes, idx)
+}
+
+/// The master of a gear-in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Master {
+    /// A planar mover (position along its route).
+    Mover(usize),
+    /// A virtual axis.
+    Axis(usize),
+}
+
 /// A running gear-in of a slave on its trail (§5.8): `s*(t) = s_sync + (m(t) − m_sync)`.
 #[derive(Clone, Debug)]
 pub(crate) struct GearIn {
-    pub master: usize,
+    pub master: Master,
     /// Master route coordinate of the start of the master sync track.
     pub master_origin: f64,
     pub m_sync: f64,
