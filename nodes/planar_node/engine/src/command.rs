@@ -397,6 +397,18 @@ pub enum PlanarCommand {
         /// Track name.
         track: String,
     },
+    /// `AddToGroup(fb, group)` of a track (§5.11): a Moving member track blocks its area.
+    TrackAddToGroup {
+        /// Track name.
+        track: String,
+        /// Group name.
+        group: String,
+    },
+    /// `RemoveFromGroup(fb)` of a track.
+    TrackRemoveFromGroup {
+        /// Track name.
+        track: String,
+    },
     /// `GetLength()`: reply [`crate::ReplyValue::Scalar`] (−1 never: unknown names are rejected).
     TrackGetLength {
         /// Track name.

@@ -415,7 +415,7 @@ impl PlanarEngine {
     }
 
     /// Area a member currently reserves in its group (§5.11).
-    fn reservation(&self, j: usize) -> ConvexPolygon {
+    pub(crate) fn reservation(&self, j: usize) -> ConvexPolygon {
         let m = &self.movers[j];
         match &m.reserved {
             Some(r) => *r,
@@ -486,7 +486,8 @@ impl PlanarEngine {
                 ));
             }
         }
-        Ok(())
+        // §5.11: Moving member tracks of the mover's group block their area.
+        self.check_moving_tracks(i, swept)
     }
 
     // ------------------------------------------------------------------ mover commands (§3.2)
@@ -2441,11 +2442,20 @@ impl Engine for PlanarEngine {
             groups: self
                 .groups
                 .iter()
-                .map(|g| GroupSnapshot {
+                .enumerate()
+                .map(|(gi, g)| GroupSnapshot {
                     name: g.name.clone(),
                     oid: g.oid,
                     state: g.sm.state,
-                    member_count: g.movers.len() + g.environment as usize,
+                    member_count: g.movers.len()
+                        + g.environment as usize
+                        + self.tracks.iter().filter(|t| t.group == Some(gi)).count(),
+                    tracks: self
+                        .tracks
+                        .iter()
+                        .filter(|t| t.group == Some(gi))
+                        .map(|t| t.name.clone())
+                        .collect(),
                     movers: g
                         .movers
                         .iter()

@@ -156,6 +156,8 @@ pub struct GroupSnapshot {
     pub movers: Vec<String>,
     /// True if the environment is a member.
     pub environment_member: bool,
+    /// Member track names (§5.11).
+    pub tracks: Vec<String>,
 }
 
 /// A part (`PlanarPartsInfo`, §1.2, §1.10).

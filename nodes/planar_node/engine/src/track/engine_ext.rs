@@ -708,6 +708,42 @@ impl PlanarEngine {
                 );
                 reply(id, ReplyValue::None)
             }
+            C::TrackAddToGroup { track, group } => {
+                let k = self.track(&track)?;
+                let g = self
+                    .group_idx
+                    .get(&group)
+                    .copied()
+                    .ok_or_else(|| Rejection::unknown_object("group", &group))?;
+                let who = self.track_who(k);
+                if self.groups[g].sm.state != PlanarState::Enabled {
+                    return Err(reject(
+                        E_GROUP_NOT_READY,
+                        format!("{who}: group '{group}' is {:?}", self.groups[g].sm.state),
+                    ));
+                }
+                if self.tracks[k].sm.state != PlanarState::Enabled {
+                    return Err(reject(
+                        E_INVALID_STATE,
+                        format!("{who}: AddToGroup needs an Enabled track"),
+                    ));
+                }
+                if let Some(og) = self.tracks[k].group {
+                    return Err(reject(
+                        E_GROUP_NOT_READY,
+                        format!("{who}: already member of group '{}'", self.groups[og].name),
+                    ));
+                }
+                self.tracks[k].tube = self.tracks[k].build_tube();
+                self.tracks[k].group = Some(g);
+                self.done_now()
+            }
+            C::TrackRemoveFromGroup { track } => {
+                let k = self.track(&track)?;
+                self.tracks[k].group = None;
+                self.tracks[k].tube.clear();
+                self.done_now()
+            }
             C::TrackGetLength { track } => {
                 let k = self.track(&track)?;
                 let id = self.new_id();
@@ -1209,6 +1245,9 @@ impl PlanarEngine {
                 ));
             }
         }
+        let mut on_route = vec![cur];
+        on_route.extend(route.iter().copied());
+        self.check_track_tubes_free(i, &on_route)?;
         let tm = self.movers[i].track.as_ref().expect("on track");
         let prof = Profile1::to_position(tm.state(), r_target, 0.0, &limits_of(&dyn_))
             .map_err(|e| traj_err(&who, e))?;
@@ -1284,6 +1323,86 @@ impl PlanarEngine {
         }
         r.reverse();
         Some(r)
+    }
+
+    // ------------------------------------------------------------------ groups (§5.11)
+
+    /// A command of group member `i` with the swept area `swept` is refused if a Moving
+    /// member track of the same group (other than the mover's own) covers any of it.
+    pub(crate) fn check_moving_tracks(
+        &mut self,
+        i: usize,
+        swept: &crate::geometry::ConvexPolygon,
+    ) -> Result<(), Rejection> {
+        let Some(g) = self.movers[i].group else {
+            return Ok(());
+        };
+        if !self.tracks.iter().any(|t| t.group == Some(g)) {
+            return Ok(());
+        }
+        let own = self.movers[i].track.as_ref().map(|t| t.track);
+        let modes = self.track_modes();
+        for k in 0..self.tracks.len() {
+            let t = &self.tracks[k];
+            if t.group != Some(g)
+                || Some(k) == own
+                || modes[k] != TrackOperationMode::Moving
+                || t.cs != self.movers[i].cs
+            {
+                continue;
+            }
+            if t.tube.iter().any(|q| q.intersects(swept)) {
+                let (oid, name) = (t.oid, t.name.clone());
+                let who = format!("mover '{}'", self.movers[i].name);
+                return Err(self.collision(
+                    &who,
+                    PlanarObjectInfo {
+                        object_type: PlanarObjectType::Track,
+                        id: oid,
+                    },
+                    &name,
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Starting a motion on member tracks that are not Moving yet: their tubes must be free of
+    /// the areas of other members of the group (movers on the track excluded, §5.11).
+    fn check_track_tubes_free(&mut self, i: usize, tracks: &[usize]) -> Result<(), Rejection> {
+        let modes = self.track_modes();
+        for &k in tracks {
+            let Some(g) = self.tracks[k].group else {
+                continue;
+            };
+            if modes[k] == TrackOperationMode::Moving {
+                continue;
+            }
+            let members = self.groups[g].movers.clone();
+            for j in members {
+                let o = &self.movers[j];
+                if j == i
+                    || o.cs != self.tracks[k].cs
+                    || o.track.as_ref().is_some_and(|t| tracks.contains(&t.track))
+                {
+                    continue;
+                }
+                let area = self.reservation(j);
+                if self.tracks[k].tube.iter().any(|q| q.intersects(&area)) {
+                    let (oid, name) = (o.oid, o.name.clone());
+                    let who = format!("mover '{}'", self.movers[i].name);
+                    return Err(self.collision(
+                        &who,
+                        PlanarObjectInfo {
+                            object_type: PlanarObjectType::Mover,
+                            id: oid,
+                        },
+                        &name,
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     // ------------------------------------------------------------------ virtual axes (§5.8.4)

@@ -256,6 +256,36 @@ pub(crate) struct Track {
     pub start_linked: bool,
     /// End already linked by EndAtTrack (same part).
     pub end_linked: bool,
+    /// Group membership (§5.11).
+    pub group: Option<usize>,
+    /// The track's area when Moving (tube of half-width max mover width / 2), built when the
+    /// track joins a group.
+    pub tube: Vec<crate::geometry::ConvexPolygon>,
+}
+
+/// Half-width of a track's tube: half the proposal "Maximal mover width" (155 mm) \[mm\].
+pub const TUBE_HALF_WIDTH: f64 = 77.5;
+
+impl Track {
+    /// Convex pieces covering the tube around the path (§5.11), every ≤ 20 mm.
+    pub fn build_tube(&self) -> Vec<crate::geometry::ConvexPolygon> {
+        let l = self.geo.length();
+        let n = (l / 20.0).ceil().max(1.0) as usize;
+        let h = TUBE_HALF_WIDTH;
+        let at = |k: usize| {
+            let p = self.geo.pose_at(l * k as f64 / n as f64);
+            let t = p.tangent();
+            let nrm = crate::geometry::V2::new(-t.y, t.x);
+            (p.p + nrm * h, p.p - nrm * h, p.p - t * h, p.p + t * h)
+        };
+        (0..n)
+            .map(|k| {
+                let (a1, a2, a3, a4) = at(k);
+                let (b1, b2, b3, b4) = at(k + 1);
+                crate::geometry::ConvexPolygon::hull(&[a1, a2, a3, a4, b1, b2, b3, b4])
+            })
+            .collect()
+    }
 }
 
 impl Track {
@@ -423,6 +453,8 @@ pub(crate) fn build_tracks(
                 locked_by: Vec::new(),
                 start_linked: false,
                 end_linked: false,
+                group: None,
+                tube: Vec::new(),
             }
         })
         .collect();
