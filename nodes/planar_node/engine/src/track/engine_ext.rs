@@ -1342,27 +1342,30 @@ impl PlanarEngine {
         }
         let own = self.movers[i].track.as_ref().map(|t| t.track);
         let modes = self.track_modes();
-        for k in 0..self.tracks.len() {
-            let t = &self.tracks[k];
-            if t.group != Some(g)
-                || Some(k) == own
-                || modes[k] != TrackOperationMode::Moving
-                || t.cs != self.movers[i].cs
-            {
-                continue;
-            }
-            if t.tube.iter().any(|q| q.intersects(swept)) {
-                let (oid, name) = (t.oid, t.name.clone());
-                let who = format!("mover '{}'", self.movers[i].name);
-                return Err(self.collision(
-                    &who,
-                    PlanarObjectInfo {
-                        object_type: PlanarObjectType::Track,
-                        id: oid,
-                    },
-                    &name,
-                ));
-            }
+        let cs = self.movers[i].cs;
+        let blocker = self
+            .tracks
+            .iter()
+            .zip(&modes)
+            .enumerate()
+            .find(|(k, (t, mode))| {
+                t.group == Some(g)
+                    && Some(*k) != own
+                    && **mode == TrackOperationMode::Moving
+                    && t.cs == cs
+                    && t.tube.iter().any(|q| q.intersects(swept))
+            });
+        if let Some((_, (t, _))) = blocker {
+            let (oid, name) = (t.oid, t.name.clone());
+            let who = format!("mover '{}'", self.movers[i].name);
+            return Err(self.collision(
+                &who,
+                PlanarObjectInfo {
+                    object_type: PlanarObjectType::Track,
+                    id: oid,
+                },
+                &name,
+            ));
         }
         Ok(())
     }
