@@ -45,6 +45,8 @@ pub struct PlanarEngine {
     /// Tracks in configuration order (§1.6).
     pub(crate) tracks: Vec<crate::track::Track>,
     pub(crate) track_idx: HashMap<String, usize>,
+    /// Switches of the track network (§5.6.4), rebuilt after geometry and link changes.
+    pub(crate) switches: Vec<crate::track::Switch>,
     /// Virtual master axes (§5.8.4).
     pub(crate) axes: Vec<crate::track::VirtualAxis>,
     pub(crate) axis_idx: HashMap<String, usize>,
@@ -205,6 +207,7 @@ impl PlanarEngine {
             track_idx,
             axes,
             axis_idx,
+            switches: Vec::new(),
         })
     }
 

@@ -139,6 +139,10 @@ pub struct TrackSnapshot {
     pub subsequent_tracks: Vec<String>,
     /// Part OID (0 = none).
     pub part_oid: u32,
+    /// Collision range at the start (automatic; 0 without a switch there) \[mm\] (§5.6.4).
+    pub collision_range_start: f64,
+    /// Collision range at the end \[mm\].
+    pub collision_range_end: f64,
 }
 
 /// A group.

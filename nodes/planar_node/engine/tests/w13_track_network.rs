@@ -282,3 +282,57 @@ fn cross_track_move_through_the_switch() {
         l1 - 100.0
     );
 }
+
+/// §5.6.4 collision avoidance near the switch at (250,500): M (ahead) goes to T4's end, F to
+/// T3. While M is inside T4's collision range, F does not enter the collision range of T1's
+/// end (it waits at its border); once M is clear, F passes. Automatic ranges exist exactly at
+/// the switch ends.
+#[test]
+fn switch_zone_is_exclusive() {
+    let mut s = network(false);
+    let t1 = track(&s, "T1");
+    assert!(t1.collision_range_end > 0.0 && t1.collision_range_start == 0.0);
+    for n in ["T2", "T3", "T4"] {
+        let t = track(&s, n);
+        assert!(t.collision_range_start > 0.0, "{n} starts at the switch");
+    }
+    assert_eq!(
+        track(&s, "T2").collision_range_end,
+        0.0,
+        "T2 → T1 start: no switch"
+    );
+    s.enable("M");
+    s.enable("F");
+    join_wait(&mut s, "M", "T1", true);
+    join_wait(&mut s, "F", "T1", true);
+    let (l1, r1) = (t1.length, t1.collision_range_end);
+    let r4 = track(&s, "T4").collision_range_start;
+    let l4 = track(&s, "T4").length;
+    assert!(r4 < l4, "T4 leaves the range");
+    let m = s.ok(mot("M", "T4", l4));
+    let f = s.ok(mot("F", "T3", 100.0));
+    let mut waited = false;
+    let mut n = 0;
+    while !(s.state(m) == Some(CommandState::Done) && s.state(f) == Some(CommandState::Done)) {
+        s.step();
+        let (om, of) = (on_track(&s, "M"), on_track(&s, "F"));
+        let m_in = om.track == "T4" && om.set_pos < r4;
+        let f_in = (of.track == "T1" && of.set_pos > l1 - r1 + 1e-6) || of.track == "T3";
+        assert!(
+            !(m_in && f_in),
+            "both in the switch zone: M {om:?}, F {of:?}"
+        );
+        if m_in && of.waiting && of.set_velo == 0.0 {
+            waited = true;
+            assert!(
+                close(of.set_pos, l1 - r1, POS_TOL),
+                "F waits at the range border"
+            );
+        }
+        n += 1;
+        assert!(n < 20_000, "not finished");
+    }
+    assert!(waited, "F had to wait for M");
+    assert_eq!(on_track(&s, "F").track, "T3");
+    assert_eq!(on_track(&s, "M").track, "T4");
+}

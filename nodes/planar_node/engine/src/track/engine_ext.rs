@@ -423,6 +423,27 @@ impl PlanarEngine {
     /// Dispatch of the track commands and the on-track mover methods.
     pub(crate) fn track_command(&mut self, cmd: PlanarCommand) -> Result<PlanarReply, Rejection> {
         use PlanarCommand as C;
+        let geometry = matches!(
+            cmd,
+            C::TrackAppendPosition { .. }
+                | C::TrackAppendLine { .. }
+                | C::TrackAppendCircle { .. }
+                | C::TrackCloseLoop { .. }
+                | C::TrackStartFromTrack { .. }
+                | C::TrackEndAtTrack { .. }
+                | C::TrackStartFromTrackAdvanced { .. }
+                | C::TrackEndAtTrackAdvanced { .. }
+                | C::TrackClear { .. }
+        );
+        let r = self.track_command_inner(cmd);
+        if geometry && r.is_ok() {
+            self.rebuild_switches();
+        }
+        r
+    }
+
+    fn track_command_inner(&mut self, cmd: PlanarCommand) -> Result<PlanarReply, Rejection> {
+        use PlanarCommand as C;
         match cmd {
             C::JoinTrack {
                 mover,
@@ -1325,6 +1346,120 @@ impl PlanarEngine {
         Some(r)
     }
 
+    // ------------------------------------------------------------------ switches (§5.6.4)
+
+    /// Finds the switches (more than two track ends/starts at one point) and the automatic
+    /// collision ranges of their tracks: the arc length from the switch after which the
+    /// distance to every other track of the switch exceeds 2R.
+    fn rebuild_switches(&mut self) {
+        let mut switches: Vec<super::Switch> = Vec::new();
+        for k in 0..self.tracks.len() {
+            if self.tracks[k].next.is_empty() {
+                continue;
+            }
+            let mut outgoing = self.tracks[k].next.clone();
+            outgoing.sort_unstable();
+            let mut incoming: Vec<usize> = outgoing
+                .iter()
+                .flat_map(|&n| self.tracks[n].prev.iter().copied())
+                .collect();
+            incoming.sort_unstable();
+            incoming.dedup();
+            if incoming.len() + outgoing.len() > 2
+                && !switches.iter().any(|s| s.outgoing == outgoing)
+            {
+                switches.push(super::Switch { incoming, outgoing });
+            }
+        }
+        for t in &mut self.tracks {
+            t.end_switch = None;
+            t.start_switch = None;
+            t.range_end = 0.0;
+            t.range_start = 0.0;
+        }
+        for (w, sw) in switches.iter().enumerate() {
+            let all: Vec<usize> = sw.incoming.iter().chain(&sw.outgoing).copied().collect();
+            let range = |me: usize, from_end: bool| -> f64 {
+                let g = &self.tracks[me].geo;
+                let l = g.length();
+                let mut x = 0.0;
+                while x < l {
+                    let q = g.pose_at(if from_end { l - x } else { x }).p;
+                    let clear = all.iter().filter(|&&o| o != me).all(|&o| {
+                        let og = &self.tracks[o].geo;
+                        (og.pose_at(og.closest(q)).p - q).norm() > super::SWITCH_CLEARANCE
+                    });
+                    if clear {
+                        return x;
+                    }
+                    x += 5.0;
+                }
+                l
+            };
+            let ends: Vec<(usize, f64)> =
+                sw.incoming.iter().map(|&k| (k, range(k, true))).collect();
+            let starts: Vec<(usize, f64)> =
+                sw.outgoing.iter().map(|&k| (k, range(k, false))).collect();
+            for (k, r) in ends {
+                self.tracks[k].end_switch = Some(w);
+                self.tracks[k].range_end = r;
+            }
+            for (k, r) in starts {
+                self.tracks[k].start_switch = Some(w);
+                self.tracks[k].range_start = r;
+            }
+        }
+        self.switches = switches;
+    }
+
+    /// True if another mover occupies switch `w` in a way that conflicts with mover `i`
+    /// (on an incoming track of `w`, outside its range): a mover reaching into the range of a
+    /// track end (unless it is ahead of `i` on the same track and takes the same branch), or a
+    /// mover inside the range of a track start that is not `i`'s branch (§5.6.4). No alloc.
+    fn switch_occupied(&self, i: usize, w: usize) -> bool {
+        let tm = self.movers[i].track.as_ref().expect("on track");
+        let my_branch = tm.route.first().copied();
+        let sw = &self.switches[w];
+        let reach_of = |j: usize| {
+            let o = self.movers[j].track.as_ref().expect("on track");
+            let (lo, hi) = super::gap::stop_interval(o.v, o.a, o.safe.0, o.safe.1);
+            (o.s() + lo, o.s() + hi, o.route.first().copied())
+        };
+        for &k in &sw.incoming {
+            let t = &self.tracks[k];
+            let zb = t.length() - t.range_end;
+            for &j in t.order.iter().rev() {
+                if j == i {
+                    continue;
+                }
+                let (_, hi, branch) = reach_of(j);
+                if hi < zb - 1e-9 {
+                    break;
+                }
+                if !(k == tm.track && branch == my_branch) {
+                    return true;
+                }
+            }
+        }
+        for &k in &sw.outgoing {
+            if Some(k) == my_branch {
+                continue;
+            }
+            let t = &self.tracks[k];
+            for &j in &t.order {
+                if j == i {
+                    continue;
+                }
+                let (lo, _, _) = reach_of(j);
+                if lo > t.range_start + 1e-9 {
+                    break;
+                }
+                return true;
+            }
+        }
+        false
+    }
+
     // ------------------------------------------------------------------ groups (§5.11)
 
     /// A command of group member `i` with the swept area `swept` is refused if a Moving
@@ -1874,6 +2009,14 @@ impl PlanarEngine {
                 off += self.tracks[k].length();
             }
         }
+        // §5.6.4: stop at the border of the collision range while another mover (not on our
+        // path) occupies the switch at the end of this track.
+        if let Some(w) = trk.end_switch {
+            let zb = l - trk.range_end;
+            if s < zb - 1e-9 && self.switch_occupied(i, w) {
+                fwd = fwd.min(tm.r - s + zb);
+            }
+        }
         if tm.slot > 0 {
             let (sb, _, hi_b) = rel(order[tm.slot - 1]);
             bwd = tm.r - (s - sb) + hi_b + tm.gap;
@@ -2241,6 +2384,8 @@ impl PlanarEngine {
                     .map(|&x| self.tracks[x].name.clone())
                     .collect(),
                 part_oid: t.part_oid,
+                collision_range_start: t.range_start,
+                collision_range_end: t.range_end,
             })
             .collect()
     }

@@ -261,6 +261,25 @@ pub(crate) struct Track {
     /// The track's area when Moving (tube of half-width max mover width / 2), built when the
     /// track joins a group.
     pub tube: Vec<crate::geometry::ConvexPolygon>,
+    /// Switch at the end / start (index into the engine's switches) (§5.6.4).
+    pub end_switch: Option<usize>,
+    pub start_switch: Option<usize>,
+    /// Automatic collision range at the end / start \[mm\] (0 without a switch).
+    pub range_end: f64,
+    pub range_start: f64,
+}
+
+/// Distance beyond which a mover no longer matters at a switch: 2R with R the half diagonal
+/// of the maximal mover (155 × 155 mm) (§5.6.4 automatic range) \[mm\].
+pub const SWITCH_CLEARANCE: f64 = 2.0 * 109.600_182_481_601_6;
+
+/// A point where more than two track ends/starts meet (§5.6.4).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Switch {
+    /// Tracks ending here.
+    pub incoming: Vec<usize>,
+    /// Tracks starting here.
+    pub outgoing: Vec<usize>,
 }
 
 /// Half-width of a track's tube: half the proposal "Maximal mover width" (155 mm) \[mm\].
@@ -455,6 +474,10 @@ pub(crate) fn build_tracks(
                 end_linked: false,
                 group: None,
                 tube: Vec::new(),
+                end_switch: None,
+                start_switch: None,
+                range_end: 0.0,
+                range_start: 0.0,
             }
         })
         .collect();
