@@ -369,3 +369,56 @@ fn leader_stops_hard() {
     assert_eq!(s.wait_final(fa, 20.0), CommandState::Done);
     assert!(close(on_track(&s, "A").set_pos, 5000.0, POS_TOL));
 }
+
+/// Extreme but finite requests are answered (accepted or rejected with an id), never panic,
+/// and never put non-finite values into the state.
+#[test]
+fn extreme_values_never_panic() {
+    let mut s = Sim::new(cfg(&[("A", 100.0, 0.0)], &["L", "T"]));
+    circle_loop_named(&mut s, "L", 100.0);
+    s.ok(line("T", (0.0, 500.0), (400.0, 500.0)));
+    enable_track(&mut s, "T");
+    s.enable("A");
+    join_wait(&mut s, "A", "L", true);
+    for (target, dir, turns, tol, gap) in [
+        (1e300, Direction::NonModulo, 0, 0.0, 200.0),
+        (-1e300, Direction::NonModulo, 0, 0.0, 200.0),
+        (1e18, Direction::Positive, u32::MAX, 0.0, 200.0),
+        (5.0, Direction::Negative, 3, 1e300, 200.0),
+        (5.0, Direction::ShortestWay, 0, 0.0, 1e300),
+        (f64::MAX, Direction::Positive, 0, 0.0, 0.0),
+    ] {
+        let _ = s.cmd(mot_opt(
+            "A",
+            "",
+            target,
+            MoveOnTrackOptions {
+                gap,
+                direction: dir,
+                additional_turns: turns,
+                modulo_tolerance: tol,
+            },
+        ));
+        s.steps(20);
+        let m = s.mover("A");
+        assert!(m.set_pos.x.is_finite() && m.set_pos.y.is_finite() && m.set_pos.c.is_finite());
+    }
+    for arc in [f64::MAX, -f64::MAX, 1e300] {
+        let _ = s.cmd(PlanarCommand::TrackGetPositionAt {
+            track: "L".into(),
+            arc_length: arc,
+        });
+    }
+    let _ = s.cmd(PlanarCommand::TrackGetArcLengthClosestTo {
+        track: "L".into(),
+        point: p(1e300, -1e300),
+    });
+    let _ = s.cmd(line("T", (1e300, 0.0), (-1e300, 0.0)));
+    let _ = s.cmd(PlanarCommand::TrackAppendCircle {
+        track: "T".into(),
+        start: p(1e300, 0.0),
+        end: p(1e300, 0.0),
+        center: p(0.0, 0.0),
+        clockwise: false,
+    });
+}

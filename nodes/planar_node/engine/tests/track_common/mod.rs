@@ -122,13 +122,18 @@ pub fn join_wait(s: &mut Sim, mover: &str, t: &str, use_orientation: bool) {
 
 /// One closed loop "L": a circle of radius `r` around (0, 0) starting at (r, 0), CCW.
 pub fn circle_loop(s: &mut Sim, r: f64) {
+    circle_loop_named(s, "L", r);
+}
+
+/// A closed circular loop named `t` (radius `r` around (0, 0), starting at (r, 0), CCW).
+pub fn circle_loop_named(s: &mut Sim, t: &str, r: f64) {
     s.ok(PlanarCommand::TrackAppendCircle {
-        track: "L".into(),
+        track: t.into(),
         start: p(r, 0.0),
         end: p(r, 0.0),
         center: p(0.0, 0.0),
         clockwise: false,
     });
-    s.ok(PlanarCommand::TrackCloseLoop { track: "L".into() });
-    enable_track(s, "L");
+    s.ok(PlanarCommand::TrackCloseLoop { track: t.into() });
+    enable_track(s, t);
 }
