@@ -45,6 +45,8 @@ pub struct PlanarEngine {
     /// Tracks in configuration order (§1.6).
     pub(crate) tracks: Vec<crate::track::Track>,
     pub(crate) track_idx: HashMap<String, usize>,
+    /// False while every mover is on one track (the guard grid is skipped, see step_motion).
+    pub(crate) guard_full: bool,
     /// Switches of the track network (§5.6.4), rebuilt after geometry and link changes.
     pub(crate) switches: Vec<crate::track::Switch>,
     /// Virtual master axes (§5.8.4).
@@ -208,6 +210,7 @@ impl PlanarEngine {
             axes,
             axis_idx,
             switches: Vec::new(),
+            guard_full: true,
         })
     }
 
@@ -1601,8 +1604,13 @@ impl PlanarEngine {
         let mut grid = std::mem::take(&mut self.grid);
         let mut cand = std::mem::take(&mut self.scratch);
         grid.clear();
-        for (i, m) in self.movers.iter().enumerate() {
-            grid.insert(m.cs, i as u32, &m.envelope);
+        // Fast path (crate::track): every mover on one and the same track, where gap control
+        // alone separates them; the guard grid is then not needed this cycle.
+        self.guard_full = !self.all_on_one_track();
+        if self.guard_full {
+            for (i, m) in self.movers.iter().enumerate() {
+                grid.insert(m.cs, i as u32, &m.envelope);
+            }
         }
         for i in 0..self.movers.len() {
             self.step_mover(i, dt, &mut grid, &mut cand);

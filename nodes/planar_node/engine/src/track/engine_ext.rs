@@ -1346,6 +1346,20 @@ impl PlanarEngine {
         Some(r)
     }
 
+    /// True if every mover is on one and the same track (then the guard is not needed).
+    pub(crate) fn all_on_one_track(&self) -> bool {
+        let mut k = None;
+        for m in &self.movers {
+            match (&m.track, k) {
+                (None, _) => return false,
+                (Some(t), None) => k = Some(t.track),
+                (Some(t), Some(x)) if t.track != x => return false,
+                _ => {}
+            }
+        }
+        true
+    }
+
     // ------------------------------------------------------------------ switches (§5.6.4)
 
     /// Finds the switches (more than two track ends/starts at one point) and the automatic
@@ -2218,7 +2232,22 @@ impl PlanarEngine {
             m.c.peek(dt)
         };
         // 3. The no-overlap guard against everything that is not gap-controlled with us.
-        if !m.guard_stop {
+        if !self.guard_full {
+            // All movers are on this one track: gap control separates them; keep a cheap,
+            // conservative envelope (square of the diagonal grown by the maximum-dynamics stop
+            // distance) for the cycle in which a mover leaves the track.
+            let (lo, hi) = crate::motion::stop_range(
+                next.vel,
+                next.acc,
+                m.cfg.max_dynamics.deceleration,
+                m.cfg.max_dynamics.jerk,
+            );
+            let h = m.diag() / 2.0 + lo.abs().max(hi.abs());
+            let c = xy_next.pos;
+            let env =
+                crate::geometry::ConvexPolygon::aabb_box(c - V2::new(h, h), c + V2::new(h, h));
+            self.movers[i].envelope = env;
+        } else if !m.guard_stop {
             let o = &m.offset;
             let shown = Kin2 {
                 pos: xy_next.pos + V2::new(o.pos.x, o.pos.y),
