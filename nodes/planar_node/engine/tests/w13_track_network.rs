@@ -283,8 +283,8 @@ fn cross_track_move_through_the_switch() {
     );
 }
 
-/// §5.6.4 collision avoidance near the switch at (250,500): M (ahead) goes to T4's end, F to
-/// T3. While M is inside T4's collision range, F does not enter the collision range of T1's
+/// §5.6.4 collision avoidance near the switch at (250,500): M (ahead) goes to T2's end, F to
+/// T3. While M is inside T2's collision range, F does not enter the collision range of T1's
 /// end (it waits at its border); once M is clear, F passes. Automatic ranges exist exactly at
 /// the switch ends.
 #[test]
@@ -306,17 +306,17 @@ fn switch_zone_is_exclusive() {
     join_wait(&mut s, "M", "T1", true);
     join_wait(&mut s, "F", "T1", true);
     let (l1, r1) = (t1.length, t1.collision_range_end);
-    let r4 = track(&s, "T4").collision_range_start;
-    let l4 = track(&s, "T4").length;
-    assert!(r4 < l4, "T4 leaves the range");
-    let m = s.ok(mot("M", "T4", l4));
+    let r2 = track(&s, "T2").collision_range_start;
+    let l2 = track(&s, "T2").length;
+    assert!(r2 < l2, "T2 leaves the range");
+    let m = s.ok(mot("M", "T2", l2));
     let f = s.ok(mot("F", "T3", 100.0));
     let mut waited = false;
     let mut n = 0;
     while !(s.state(m) == Some(CommandState::Done) && s.state(f) == Some(CommandState::Done)) {
         s.step();
         let (om, of) = (on_track(&s, "M"), on_track(&s, "F"));
-        let m_in = om.track == "T4" && om.set_pos < r4;
+        let m_in = om.track == "T2" && om.set_pos < r2;
         let f_in = (of.track == "T1" && of.set_pos > l1 - r1 + 1e-6) || of.track == "T3";
         assert!(
             !(m_in && f_in),
@@ -334,5 +334,5 @@ fn switch_zone_is_exclusive() {
     }
     assert!(waited, "F had to wait for M");
     assert_eq!(on_track(&s, "F").track, "T3");
-    assert_eq!(on_track(&s, "M").track, "T4");
+    assert_eq!(on_track(&s, "M").track, "T2");
 }

@@ -1392,16 +1392,35 @@ impl PlanarEngine {
             t.range_start = 0.0;
         }
         for (w, sw) in switches.iter().enumerate() {
-            let all: Vec<usize> = sw.incoming.iter().chain(&sw.outgoing).copied().collect();
+            // (track, switch at its end?) for every track of the switch.
+            let all: Vec<(usize, bool)> = sw
+                .incoming
+                .iter()
+                .map(|&k| (k, true))
+                .chain(sw.outgoing.iter().map(|&k| (k, false)))
+                .collect();
+            let tracks = &self.tracks;
+            // Distance from `q` to the part of track `o` within `w` (arc length) of the switch.
+            let near = |o: usize, o_end: bool, w: f64, q: V2| -> f64 {
+                let g = &tracks[o].geo;
+                let l = g.length();
+                let mut best = f64::INFINITY;
+                let mut x = 0.0;
+                while x <= w.min(l) {
+                    let p = g.pose_at(if o_end { l - x } else { x }).p;
+                    best = best.min((p - q).norm());
+                    x += 2.5;
+                }
+                best
+            };
             let range = |me: usize, from_end: bool| -> f64 {
-                let g = &self.tracks[me].geo;
+                let g = &tracks[me].geo;
                 let l = g.length();
                 let mut x = 0.0;
                 while x < l {
                     let q = g.pose_at(if from_end { l - x } else { x }).p;
-                    let clear = all.iter().filter(|&&o| o != me).all(|&o| {
-                        let og = &self.tracks[o].geo;
-                        (og.pose_at(og.closest(q)).p - q).norm() > super::SWITCH_CLEARANCE
+                    let clear = all.iter().filter(|(o, _)| *o != me).all(|&(o, o_end)| {
+                        near(o, o_end, x + super::SWITCH_CLEARANCE, q) > super::SWITCH_CLEARANCE
                     });
                     if clear {
                         return x;

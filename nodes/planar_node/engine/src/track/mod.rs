@@ -269,9 +269,12 @@ pub(crate) struct Track {
     pub range_start: f64,
 }
 
-/// Distance beyond which a mover no longer matters at a switch: 2R with R the half diagonal
-/// of the maximal mover (155 × 155 mm) (§5.6.4 automatic range) \[mm\].
-pub const SWITCH_CLEARANCE: f64 = 2.0 * 109.600_182_481_601_6;
+/// Distance beyond which a mover no longer matters at a switch (§5.6.4 automatic range)
+/// \[mm\]. The spec's proposal is 2R (R = half diagonal of the maximal 155 × 155 mm mover,
+/// 219.2 mm); it is enlarged to 2·√2·R + 50 mm so that the no-overlap guard's envelopes
+/// (axis-aligned squares of a rotating mover plus its stop range) of movers on different
+/// branches cannot touch either: a larger range only makes movers wait earlier.
+pub const SWITCH_CLEARANCE: f64 = 2.0 * std::f64::consts::SQRT_2 * 109.600_182_481_601_6 + 50.0;
 
 /// A point where more than two track ends/starts meet (§5.6.4).
 #[derive(Clone, Debug, PartialEq)]
