@@ -143,6 +143,8 @@ pub struct TrackSnapshot {
     pub collision_range_start: f64,
     /// Collision range at the end \[mm\].
     pub collision_range_end: f64,
+    /// Subsequent Tracks whose link is traversable with the current part positions (§5.12).
+    pub traversable_subsequent_tracks: Vec<String>,
 }
 
 /// A group.

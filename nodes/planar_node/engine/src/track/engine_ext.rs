@@ -178,7 +178,8 @@ impl PlanarEngine {
                 ),
             ));
         }
-        Ok(v)
+        // Stored in the coordinates of the part position the geometry was defined in.
+        Ok(v - self.track_shift_at(k, 0))
     }
 
     fn link(&mut self, from: usize, to: usize) {
@@ -213,7 +214,12 @@ impl PlanarEngine {
         Ok(())
     }
 
-    fn start_from_track(&mut self, k: usize, o: usize) -> Result<PlanarReply, Rejection> {
+    fn start_from_track(
+        &mut self,
+        k: usize,
+        o: usize,
+        adv: super::TrackLinkAdvancedOptions,
+    ) -> Result<PlanarReply, Rejection> {
         let who = self.track_who(k);
         self.require_disabled_track(k)?;
         if k == o {
@@ -222,8 +228,10 @@ impl PlanarEngine {
                 format!("{who}: StartFromTrack with itself"),
             ));
         }
+        let delta = self.track_shift_at(o, adv.other_track_part_position_index)
+            - self.track_shift_at(k, adv.this_track_part_position_index);
         let other = &self.tracks[o];
-        let Some(end) = other.geo.end_pose().filter(|_| !other.geo.closed()) else {
+        let Some(mut end) = other.geo.end_pose().filter(|_| !other.geo.closed()) else {
             return Err(reject(
                 E_GEOMETRY_INVALID,
                 format!(
@@ -232,6 +240,7 @@ impl PlanarEngine {
                 ),
             ));
         };
+        end.p += delta;
         let same_part = other.part_oid == self.tracks[k].part_oid;
         let t = &self.tracks[k];
         if !t.geo.is_empty() {
@@ -255,14 +264,28 @@ impl PlanarEngine {
             self.tracks[o].locked_by.push(k);
         }
         self.link(o, k);
+        if adv.link_only_in_specified_part_positions {
+            let (fi, ti) = (
+                self.track_part_index(o, adv.other_track_part_position_index),
+                self.track_part_index(k, adv.this_track_part_position_index),
+            );
+            self.tracks[o].link_only.push((k, fi, ti));
+        }
         self.done_now()
     }
 
-    fn end_at_track(&mut self, k: usize, o: usize) -> Result<PlanarReply, Rejection> {
+    fn end_at_track(
+        &mut self,
+        k: usize,
+        o: usize,
+        adv: super::TrackLinkAdvancedOptions,
+    ) -> Result<PlanarReply, Rejection> {
         let who = self.track_who(k);
         self.require_disabled_track(k)?;
+        let delta = self.track_shift_at(o, adv.other_track_part_position_index)
+            - self.track_shift_at(k, adv.this_track_part_position_index);
         let other = &self.tracks[o];
-        let Some(start) = other.geo.start_pose().filter(|_| !other.geo.closed()) else {
+        let Some(mut start) = other.geo.start_pose().filter(|_| !other.geo.closed()) else {
             return Err(reject(
                 E_GEOMETRY_INVALID,
                 format!(
@@ -271,6 +294,7 @@ impl PlanarEngine {
                 ),
             ));
         };
+        start.p += delta;
         let same_part = other.part_oid == self.tracks[k].part_oid;
         let t = &self.tracks[k];
         if t.geo.is_empty() || t.geo.closed() {
@@ -297,6 +321,13 @@ impl PlanarEngine {
             self.tracks[k].locked_by.push(k);
         }
         self.link(k, o);
+        if adv.link_only_in_specified_part_positions {
+            let (fi, ti) = (
+                self.track_part_index(k, adv.this_track_part_position_index),
+                self.track_part_index(o, adv.other_track_part_position_index),
+            );
+            self.tracks[k].link_only.push((o, fi, ti));
+        }
         self.done_now()
     }
 
@@ -356,7 +387,8 @@ impl PlanarEngine {
                             && l.y <= tl.y + side + 1e-6
                     })
                 };
-                if pcs != t.cs || !t.geo.samples(5.0).into_iter().all(on) {
+                let shift = self.track_shift_at(k, 0);
+                if pcs != t.cs || !t.geo.samples(5.0).into_iter().all(|q| on(q + shift)) {
                     return Err(reject(
                         E_GEOMETRY_INVALID,
                         format!(
@@ -435,6 +467,20 @@ impl PlanarEngine {
                 | C::TrackEndAtTrackAdvanced { .. }
                 | C::TrackClear { .. }
         );
+        // The geometry is stored in CS coordinates of the part position it was defined in.
+        let target_track = match &cmd {
+            C::TrackAppendPosition { track, .. }
+            | C::TrackAppendLine { track, .. }
+            | C::TrackAppendCircle { track, .. }
+            | C::TrackStartFromTrack { track, .. }
+            | C::TrackStartFromTrackAdvanced { track, .. } => self.track_idx.get(track).copied(),
+            _ => None,
+        };
+        if let Some(k) = target_track {
+            if self.tracks[k].geo.is_empty() {
+                self.tracks[k].geo_origin = self.track_shift_at(k, 0) + self.tracks[k].geo_origin;
+            }
+        }
         let r = self.track_command_inner(cmd);
         if geometry && r.is_ok() {
             self.rebuild_switches();
@@ -671,12 +717,12 @@ impl PlanarEngine {
             C::TrackStartFromTrack { track, other } => {
                 let k = self.track(&track)?;
                 let o = self.track(&other)?;
-                self.start_from_track(k, o)
+                self.start_from_track(k, o, Default::default())
             }
             C::TrackEndAtTrack { track, other } => {
                 let k = self.track(&track)?;
                 let o = self.track(&other)?;
-                self.end_at_track(k, o)
+                self.end_at_track(k, o, Default::default())
             }
             C::TrackStartFromTrackAdvanced {
                 track,
@@ -687,7 +733,7 @@ impl PlanarEngine {
                 let o = self.track(&other)?;
                 self.check_position_index(k, options.this_track_part_position_index, "this")?;
                 self.check_position_index(o, options.other_track_part_position_index, "other")?;
-                self.start_from_track(k, o)
+                self.start_from_track(k, o, options)
             }
             C::TrackEndAtTrackAdvanced {
                 track,
@@ -698,7 +744,7 @@ impl PlanarEngine {
                 let o = self.track(&other)?;
                 self.check_position_index(k, options.this_track_part_position_index, "this")?;
                 self.check_position_index(o, options.other_track_part_position_index, "other")?;
-                self.end_at_track(k, o)
+                self.end_at_track(k, o, options)
             }
             C::TrackClear { track } => {
                 let k = self.track(&track)?;
@@ -781,6 +827,7 @@ impl PlanarEngine {
                     ));
                 }
                 let s = self.tracks[k].geo.closest(p);
+                // (`p` is already in stored coordinates: track_point subtracted the shift.)
                 let id = self.new_id();
                 ev(&mut self.pending, id, CommandState::Done);
                 reply(id, ReplyValue::Scalar(s))
@@ -802,7 +849,8 @@ impl PlanarEngine {
                         ),
                     ));
                 }
-                let p = t.geo.pose_at(arc_length);
+                let mut p = t.geo.pose_at(arc_length);
+                p.p += self.track_shift_at(k, 0);
                 let refid = if self.coordinate_systems.len() == 1 && t.cs == 0 {
                     0
                 } else {
@@ -869,8 +917,10 @@ impl PlanarEngine {
                 format!("{who}: track '{}' is in another coordinate system", t.name),
             ));
         }
-        let s_j = t.geo.closest(m.xy_out().pos);
-        let pose = t.geo.pose_at(s_j);
+        let shift = self.track_shift_at(k, 0);
+        let s_j = t.geo.closest(m.xy_out().pos - shift);
+        let mut pose = t.geo.pose_at(s_j);
+        pose.p += shift;
         let c_end = if options.use_orientation {
             nearest_equivalent(pose.heading_deg(), m.c_out())
         } else {
@@ -886,7 +936,7 @@ impl PlanarEngine {
             let there = match (&o.track, o.joining) {
                 (Some(tm), _) if tm.track == k => Some(o.footprint()),
                 (_, Some((kk, s, _))) if kk == k => Some(crate::geometry::ConvexPolygon::rect(
-                    t.geo.pose_at(s).p,
+                    t.geo.pose_at(s).p + shift,
                     o.cfg.width,
                     o.cfg.height,
                     o.c_out(),
@@ -1027,7 +1077,7 @@ impl PlanarEngine {
                 self.movers[i].mode = CommandMode::FreeMovement;
                 return;
             };
-            let p = self.tracks[k].geo.pose_at(s_j).p;
+            let p = self.tracks[k].geo.pose_at(s_j).p + self.track_shift_at(k, 0);
             let m = &mut self.movers[i];
             m.joining = None;
             if (m.xy.pos - p).norm() <= 1e-6 {
@@ -1311,7 +1361,10 @@ impl PlanarEngine {
         let mut prev = vec![usize::MAX; n];
         let mut done = vec![false; n];
         for &k in &self.tracks[from].next {
-            if k != from && self.tracks[k].sm.state == PlanarState::Enabled {
+            if k != from
+                && self.tracks[k].sm.state == PlanarState::Enabled
+                && self.traversable(from, k)
+            {
                 dist[k] = 0.0;
                 prev[k] = from;
             }
@@ -1330,7 +1383,7 @@ impl PlanarEngine {
             done[u] = true;
             for &k in &self.tracks[u].next {
                 let d = dist[u] + self.tracks[u].length();
-                if k != from && !done[k] && d < dist[k] {
+                if k != from && !done[k] && d < dist[k] && self.traversable(u, k) {
                     dist[k] = d;
                     prev[k] = u;
                 }
@@ -1358,6 +1411,57 @@ impl PlanarEngine {
             }
         }
         true
+    }
+
+    // ------------------------------------------------------------------ part positions (§5.12)
+
+    fn track_part(&self, k: usize) -> Option<usize> {
+        let oid = self.tracks[k].part_oid;
+        if oid == 0 {
+            return None;
+        }
+        self.parts.iter().position(|p| p.oid == oid)
+    }
+
+    /// Position index of track `k`'s part for a link (0 = the part's current index).
+    fn track_part_index(&self, k: usize, index: u32) -> u32 {
+        match (index, self.track_part(k)) {
+            (0, Some(p)) => self.parts[p].index,
+            (i, _) => i,
+        }
+    }
+
+    /// Shift of track `k`'s stored geometry with its part at `index` (0 = current) \[mm\].
+    fn track_shift_at(&self, k: usize, index: u32) -> V2 {
+        match self.track_part(k) {
+            Some(p) => {
+                let part = &self.parts[p];
+                let i = if index == 0 { part.index } else { index };
+                part.positions
+                    .get(&i)
+                    .map(|q| V2::new(q.x, q.y) - self.tracks[k].geo_origin)
+                    .unwrap_or_default()
+            }
+            None => V2::zeros(),
+        }
+    }
+
+    /// True if the link `from` end → `to` start is traversable now (§1.6, §5.12): links made
+    /// only for specified part positions need exactly those positions; the others need the
+    /// two track ends to meet with the parts where they are.
+    pub(crate) fn traversable(&self, from: usize, to: usize) -> bool {
+        if let Some(&(_, fi, ti)) = self.tracks[from].link_only.iter().find(|x| x.0 == to) {
+            return self.track_part_index(from, 0) == fi && self.track_part_index(to, 0) == ti;
+        }
+        let (a, b) = (&self.tracks[from], &self.tracks[to]);
+        match (a.geo.end_pose(), b.geo.start_pose()) {
+            (Some(e), Some(st)) => {
+                let pe = e.p + self.track_shift_at(from, 0);
+                let ps = st.p + self.track_shift_at(to, 0);
+                (pe - ps).norm() <= 1e-3
+            }
+            _ => false,
+        }
     }
 
     // ------------------------------------------------------------------ switches (§5.6.4)
@@ -2231,7 +2335,11 @@ impl PlanarEngine {
             switch_to = Some(k);
         }
         let geo = &self.tracks[k].geo;
-        let pose: TrackPose = geo.pose_at(next.pos - base);
+        let mut pose: TrackPose = geo.pose_at(next.pos - base);
+        if self.tracks[k].part_oid != 0 {
+            // Tracks move with their part (§1.6).
+            pose.p += self.track_shift_at(k, 0);
+        }
         let tng = pose.tangent();
         let nrm = V2::new(-tng.y, tng.x);
         let xy_next = Kin2 {
@@ -2434,6 +2542,12 @@ impl PlanarEngine {
                 part_oid: t.part_oid,
                 collision_range_start: t.range_start,
                 collision_range_end: t.range_end,
+                traversable_subsequent_tracks: t
+                    .next
+                    .iter()
+                    .filter(|&&x| self.traversable(k, x))
+                    .map(|&x| self.tracks[x].name.clone())
+                    .collect(),
             })
             .collect()
     }

@@ -267,6 +267,12 @@ pub(crate) struct Track {
     /// Automatic collision range at the end / start \[mm\] (0 without a switch).
     pub range_end: f64,
     pub range_start: f64,
+    /// Origin of the track's part when the geometry was defined (the geometry is stored in CS
+    /// coordinates of that part position) (§1.6 tracks move with their part).
+    pub geo_origin: crate::geometry::V2,
+    /// Links to `next` tracks that exist only in specified part positions:
+    /// (to, this part's index, other part's index) (§5.12 linkOnlyInSpecifiedPartPositions).
+    pub link_only: Vec<(usize, u32, u32)>,
 }
 
 /// Distance beyond which a mover no longer matters at a switch (§5.6.4 automatic range)
@@ -481,6 +487,8 @@ pub(crate) fn build_tracks(
                 start_switch: None,
                 range_end: 0.0,
                 range_start: 0.0,
+                geo_origin: part.map(|p| p.origin().1).unwrap_or_default(),
+                link_only: Vec::new(),
             }
         })
         .collect();
