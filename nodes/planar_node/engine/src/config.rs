@@ -14,8 +14,9 @@
 //!   - {name: M, initial_pose: {x: 120, y: 120, c: 0}, part_oid: 0x01010020}
 //! groups: [{name: G}]
 //! ```
-//! Tracks (`tracks:`) and virtual axes (`axes:`) arrive with part 2 of the engine; until
-//! then these keys are refused as unknown.
+//! Tracks (`tracks: [{name: T1, oid: 0x01050001, part_oid: 0x01010020}]`) are configured
+//! objects whose geometry is built by commands (§1.11); virtual master axes
+//! (`axes: [{name: X}]`, §5.8.4) drive GearInPosOnTrack.
 
 use crate::errors::reject;
 use crate::geometry::{tiles_overlap, ConvexPolygon, STATOR_SIDE, V2};
@@ -30,6 +31,8 @@ pub const AUTO_MOVER_OID: u32 = 0x0102_0000;
 pub const AUTO_GROUP_OID: u32 = 0x0103_0000;
 /// OID of the environment when none is configured.
 pub const AUTO_ENVIRONMENT_OID: u32 = 0x0104_0001;
+/// First OID given to tracks configured without one.
+pub const AUTO_TRACK_OID: u32 = 0x0105_0000;
 
 fn d_cycle() -> f64 {
     0.001
@@ -69,6 +72,12 @@ pub struct PlanarConfig {
     /// Groups.
     #[serde(default)]
     pub groups: Vec<GroupConfig>,
+    /// Tracks (§1.6); geometry comes from the track commands.
+    #[serde(default)]
+    pub tracks: Vec<TrackConfig>,
+    /// Virtual master axes for GearInPosOnTrack (§5.8.4).
+    #[serde(default)]
+    pub axes: Vec<VirtualAxisConfig>,
     /// Enabling → Enabled \[s\] (default 0.1).
     #[serde(default = "d_state_time")]
     pub enable_time: f64,
@@ -98,6 +107,8 @@ impl Default for PlanarConfig {
             environment: EnvironmentConfig::default(),
             movers: vec![],
             groups: vec![],
+            tracks: vec![],
+            axes: vec![],
             enable_time: d_state_time(),
             disable_time: d_state_time(),
             reset_time: d_state_time(),
@@ -307,6 +318,44 @@ pub struct GroupConfig {
     /// OID (0 → [`AUTO_GROUP_OID`] + index).
     #[serde(default)]
     pub oid: u32,
+}
+
+/// First OID given to virtual axes configured without one.
+pub const AUTO_AXIS_OID: u32 = 0x0106_0000;
+
+/// `axes:` entry: a virtual master axis (§5.8.4).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VirtualAxisConfig {
+    /// Name used in commands.
+    pub name: String,
+    /// OID (0 → [`AUTO_AXIS_OID`] + index).
+    #[serde(default)]
+    pub oid: u32,
+}
+
+/// `tracks:` entry (§1.6 init parameters).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackConfig {
+    /// Name used in commands.
+    pub name: String,
+    /// OID (0 → [`AUTO_TRACK_OID`] + index).
+    #[serde(default)]
+    pub oid: u32,
+    /// Part the track is fixed to (V3.2.60; required when more than one part exists).
+    #[serde(default)]
+    pub part_oid: u32,
+}
+
+impl TrackConfig {
+    /// A track with an automatic OID and no part.
+    pub fn new(name: &str) -> Self {
+        TrackConfig {
+            name: name.into(),
+            ..Default::default()
+        }
+    }
 }
 
 fn bad(key: &str, value: impl std::fmt::Display, why: &str) -> Rejection {
@@ -646,6 +695,53 @@ impl PlanarConfig {
                 ));
             }
         }
+        let mut tnames: HashSet<&str> = HashSet::new();
+        for (i, t) in self.tracks.iter().enumerate() {
+            let key = format!("tracks[{i}]");
+            uniq(&format!("{key}.oid"), self.track_oid(i))?;
+            if t.name.is_empty() || !tnames.insert(&t.name) {
+                return Err(bad(
+                    &format!("{key}.name"),
+                    &t.name,
+                    "names must be non-empty and unique among tracks",
+                ));
+            }
+            if t.part_oid != 0 && !self.parts.iter().any(|p| p.oid == t.part_oid) {
+                return Err(bad(
+                    &format!("{key}.part_oid"),
+                    format!("0x{:08X}", t.part_oid),
+                    "no such part",
+                ));
+            }
+        }
+        let mut anames: HashSet<&str> = HashSet::new();
+        for (i, a) in self.axes.iter().enumerate() {
+            let key = format!("axes[{i}]");
+            uniq(&format!("{key}.oid"), self.axis_oid(i))?;
+            if a.name.is_empty() || !anames.insert(&a.name) {
+                return Err(bad(
+                    &format!("{key}.name"),
+                    &a.name,
+                    "names must be non-empty and unique among axes",
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// OID of virtual axis `i`.
+    pub(crate) fn axis_oid(&self, i: usize) -> u32 {
+        match self.axes[i].oid {
+            0 => AUTO_AXIS_OID + i as u32 + 1,
+            o => o,
+        }
+    }
+
+    /// OID of track `i` (configured or automatic).
+    pub(crate) fn track_oid(&self, i: usize) -> u32 {
+        match self.tracks[i].oid {
+            0 => AUTO_TRACK_OID + i as u32 + 1,
+            o => o,
+        }
     }
 }

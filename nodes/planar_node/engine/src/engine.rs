@@ -23,38 +23,48 @@ use std::collections::HashMap;
 
 /// The XPlanar engine (part 1: free movement, groups, parts; no tracks yet).
 pub struct PlanarEngine {
-    timing: Timing,
-    cycle_time: f64,
-    part_move_time: f64,
-    esg_timeout_cycles: u32,
-    time: f64,
-    coordinate_systems: Vec<u32>,
-    env: Environment,
-    parts: Vec<Part>,
-    movers: Vec<Mover>,
-    groups: Vec<Group>,
-    mover_idx: HashMap<String, usize>,
-    group_idx: HashMap<String, usize>,
-    part_idx: HashMap<String, usize>,
-    next_id: u64,
+    pub(crate) timing: Timing,
+    pub(crate) cycle_time: f64,
+    pub(crate) part_move_time: f64,
+    pub(crate) esg_timeout_cycles: u32,
+    pub(crate) time: f64,
+    pub(crate) coordinate_systems: Vec<u32>,
+    pub(crate) env: Environment,
+    pub(crate) parts: Vec<Part>,
+    pub(crate) movers: Vec<Mover>,
+    pub(crate) groups: Vec<Group>,
+    pub(crate) mover_idx: HashMap<String, usize>,
+    pub(crate) group_idx: HashMap<String, usize>,
+    pub(crate) part_idx: HashMap<String, usize>,
+    pub(crate) next_id: u64,
     /// Status changes produced by `command`, reported in the next `step`.
-    pending: Vec<CommandEvent>,
-    grid: Grid,
-    scratch: Vec<u32>,
-    last_object_info: PlanarObjectInfo,
+    pub(crate) pending: Vec<CommandEvent>,
+    pub(crate) grid: Grid,
+    pub(crate) scratch: Vec<u32>,
+    pub(crate) last_object_info: PlanarObjectInfo,
+    /// Tracks in configuration order (§1.6).
+    pub(crate) tracks: Vec<crate::track::Track>,
+    pub(crate) track_idx: HashMap<String, usize>,
+    /// False while every mover is on one track (the guard grid is skipped, see step_motion).
+    pub(crate) guard_full: bool,
+    /// Switches of the track network (§5.6.4), rebuilt after geometry and link changes.
+    pub(crate) switches: Vec<crate::track::Switch>,
+    /// Virtual master axes (§5.8.4).
+    pub(crate) axes: Vec<crate::track::VirtualAxis>,
+    pub(crate) axis_idx: HashMap<String, usize>,
 }
 
-fn ev(events: &mut Vec<CommandEvent>, id: CmdId, state: CommandState) {
+pub(crate) fn ev(events: &mut Vec<CommandEvent>, id: CmdId, state: CommandState) {
     events.push(CommandEvent { id, state });
 }
 
-fn end(events: &mut Vec<CommandEvent>, slot: &mut Option<CmdId>, state: CommandState) {
+pub(crate) fn end(events: &mut Vec<CommandEvent>, slot: &mut Option<CmdId>, state: CommandState) {
     if let Some(id) = slot.take() {
         ev(events, id, state);
     }
 }
 
-fn traj_err(who: &str, e: motion_core::trajectory::TrajectoryError) -> Rejection {
+pub(crate) fn traj_err(who: &str, e: motion_core::trajectory::TrajectoryError) -> Rejection {
     reject(E_INVALID_PARAMETER, format!("{who}: {e}"))
 }
 
@@ -129,6 +139,9 @@ impl PlanarEngine {
                 envelope: ConvexPolygon::aabb_box(V2::zeros(), V2::zeros()),
                 warning: ErrorId::NONE,
                 c_mode: CCoordinateMode::Independent,
+                track: None,
+                joining: None,
+                leaving: None,
             };
             mv.envelope = mv.footprint();
             max_diag = max_diag.max(mv.diag());
@@ -156,6 +169,8 @@ impl PlanarEngine {
             .enumerate()
             .map(|(i, g)| (g.name.clone(), i))
             .collect();
+        let (tracks, track_idx) = crate::track::build_tracks(&cfg, &parts);
+        let (axes, axis_idx) = crate::track::build_axes(&cfg);
         let part_idx = parts
             .iter()
             .enumerate()
@@ -191,6 +206,12 @@ impl PlanarEngine {
             grid: Grid::new(2.0 * max_diag),
             scratch: Vec::new(),
             last_object_info: PlanarObjectInfo::default(),
+            tracks,
+            track_idx,
+            axes,
+            axis_idx,
+            switches: Vec::new(),
+            guard_full: true,
         })
     }
 
@@ -226,13 +247,13 @@ impl PlanarEngine {
             .then(|| PositionXYC::with_ref(cs_pos.x - o.x, cs_pos.y - o.y, p.c, part.oid)))
     }
 
-    fn new_id(&mut self) -> CmdId {
+    pub(crate) fn new_id(&mut self) -> CmdId {
         let id = CmdId(self.next_id);
         self.next_id += 1;
         id
     }
 
-    fn mover(&self, name: &str) -> Result<usize, Rejection> {
+    pub(crate) fn mover(&self, name: &str) -> Result<usize, Rejection> {
         self.mover_idx
             .get(name)
             .copied()
@@ -260,7 +281,7 @@ impl PlanarEngine {
     }
 
     /// Resolves (x, y, ReferenceId) to (CS, point in that CS).
-    fn resolve(
+    pub(crate) fn resolve(
         &self,
         who: &str,
         x: f64,
@@ -293,7 +314,7 @@ impl PlanarEngine {
 
     /// Stator tiles of a CS (parts at their current positions, else added stators); empty =
     /// unbounded plane.
-    fn area_tiles(&self, cs: u32) -> Vec<V2> {
+    pub(crate) fn area_tiles(&self, cs: u32) -> Vec<V2> {
         if self.parts.is_empty() {
             return self.env.stators.clone();
         }
@@ -307,7 +328,7 @@ impl PlanarEngine {
         t
     }
 
-    fn part_of(&self, m: &Mover) -> Option<usize> {
+    pub(crate) fn part_of(&self, m: &Mover) -> Option<usize> {
         let p = m.xy_out().pos;
         self.parts.iter().position(|part| part.contains(m.cs, p))
     }
@@ -330,7 +351,7 @@ impl PlanarEngine {
 
     // ------------------------------------------------------------------ common checks
 
-    fn require_enabled(&self, i: usize, what: &str) -> Result<(), Rejection> {
+    pub(crate) fn require_enabled(&self, i: usize, what: &str) -> Result<(), Rejection> {
         let m = &self.movers[i];
         if m.sm.state != PlanarState::Enabled {
             return Err(reject(
@@ -344,7 +365,12 @@ impl PlanarEngine {
         Ok(())
     }
 
-    fn require_mode(&self, i: usize, kind: CommandKind, what: &str) -> Result<(), Rejection> {
+    pub(crate) fn require_mode(
+        &self,
+        i: usize,
+        kind: CommandKind,
+        what: &str,
+    ) -> Result<(), Rejection> {
         let m = &self.movers[i];
         let ctx = AdmissionContext {
             standing: m.xy_standing(),
@@ -364,7 +390,7 @@ impl PlanarEngine {
         Ok(())
     }
 
-    fn require_group_ready(&self, i: usize) -> Result<(), Rejection> {
+    pub(crate) fn require_group_ready(&self, i: usize) -> Result<(), Rejection> {
         if let Some(g) = self.movers[i].group {
             let g = &self.groups[g];
             if g.sm.state != PlanarState::Enabled {
@@ -380,7 +406,7 @@ impl PlanarEngine {
         Ok(())
     }
 
-    fn require_part_still(&self, i: usize) -> Result<(), Rejection> {
+    pub(crate) fn require_part_still(&self, i: usize) -> Result<(), Rejection> {
         if let Some(p) = self.part_of(&self.movers[i]) {
             if self.parts[p].transit.is_some() {
                 return Err(reject(
@@ -396,7 +422,7 @@ impl PlanarEngine {
     }
 
     /// Area a member currently reserves in its group (§5.11).
-    fn reservation(&self, j: usize) -> ConvexPolygon {
+    pub(crate) fn reservation(&self, j: usize) -> ConvexPolygon {
         let m = &self.movers[j];
         match &m.reserved {
             Some(r) => *r,
@@ -404,7 +430,7 @@ impl PlanarEngine {
         }
     }
 
-    fn collision(&mut self, who: &str, info: PlanarObjectInfo, name: &str) -> Rejection {
+    pub(crate) fn collision(&mut self, who: &str, info: PlanarObjectInfo, name: &str) -> Rejection {
         self.last_object_info = info;
         reject(
             E_COLLISION,
@@ -421,7 +447,7 @@ impl PlanarEngine {
 
     /// Group reservation check of a swept area (§5.11); without a group, the area must not
     /// run into a mover that stands idle (task: commands that would collide are refused).
-    fn check_swept(&mut self, i: usize, swept: &ConvexPolygon) -> Result<(), Rejection> {
+    pub(crate) fn check_swept(&mut self, i: usize, swept: &ConvexPolygon) -> Result<(), Rejection> {
         let who = format!("mover '{}'", self.movers[i].name);
         let cs = self.movers[i].cs;
         if let Some(g) = self.movers[i].group {
@@ -471,12 +497,13 @@ impl PlanarEngine {
                 ));
             }
         }
-        Ok(())
+        // §5.11: Moving member tracks of the mover's group block their area.
+        self.check_moving_tracks(i, swept)
     }
 
     // ------------------------------------------------------------------ mover commands (§3.2)
 
-    fn move_to_position(
+    pub(crate) fn move_to_position(
         &mut self,
         i: usize,
         target: PositionXYC,
@@ -569,7 +596,7 @@ impl PlanarEngine {
         })
     }
 
-    fn move_c(
+    pub(crate) fn move_c(
         &mut self,
         i: usize,
         target: f64,
@@ -647,6 +674,9 @@ impl PlanarEngine {
         m.c.start(prof);
         m.c_cmd = Some(id);
         m.c_mode = CCoordinateMode::Independent;
+        if let Some(t) = &mut m.track {
+            t.adopt = false;
+        }
         if leaves_window {
             m.mode = match m.mode {
                 CommandMode::OnTrack | CommandMode::CRotationOnTrack => {
@@ -725,11 +755,16 @@ impl PlanarEngine {
     }
 
     /// Plans stops on every moving axis with `dxy`/`dc`/`daux` (Halt, Disable, QuickStop).
-    fn plan_stops(m: &mut Mover, dxy: &Dynamics, dc: &Dynamics, daux: &Dynamics) {
-        if m.path.is_some() || m.xy.moving() {
+    pub(crate) fn plan_stops(m: &mut Mover, dxy: &Dynamics, dc: &Dynamics, daux: &Dynamics) {
+        if let Some(t) = &mut m.track {
+            // On a track the stop happens along the track (§3.2 Halt).
+            t.plan_stop(dxy);
+        } else if m.path.is_some() || m.xy.moving() {
             m.path = PathPlan::stop(m.xy, dxy).ok();
         }
-        if m.c.moving() {
+        // A dependent C rides on the track motion (§5.9): it stops with it.
+        let c_rides = m.track.is_some() && m.c_mode == CCoordinateMode::Dependent;
+        if m.c.moving() && !c_rides {
             if let Ok(p) = m.c.plan_stop(dc) {
                 m.c.start(p);
             }
@@ -743,7 +778,11 @@ impl PlanarEngine {
         }
     }
 
-    fn halt(&mut self, i: usize, constraint: DynamicConstraint) -> Result<PlanarReply, Rejection> {
+    pub(crate) fn halt(
+        &mut self,
+        i: usize,
+        constraint: DynamicConstraint,
+    ) -> Result<PlanarReply, Rejection> {
         let who = format!("mover '{}'", self.movers[i].name);
         self.require_enabled(i, "Halt")?;
         self.require_mode(i, CommandKind::Halt, "Halt")?;
@@ -1248,7 +1287,7 @@ impl PlanarEngine {
         }
     }
 
-    fn done_now(&mut self) -> Result<PlanarReply, Rejection> {
+    pub(crate) fn done_now(&mut self) -> Result<PlanarReply, Rejection> {
         let id = self.new_id();
         ev(&mut self.pending, id, CommandState::Done);
         Ok(PlanarReply {
@@ -1418,6 +1457,9 @@ impl PlanarEngine {
             // Set points frozen, power off, z drops.
             m.path = None;
             m.xy = Kin2::at_rest(m.xy.pos);
+            if let Some(t) = &mut m.track {
+                t.freeze();
+            }
             for ax in [&mut m.c, &mut m.a, &mut m.b] {
                 ax.freeze();
             }
@@ -1499,10 +1541,13 @@ impl PlanarEngine {
                 m.sm.complete(&mut self.pending);
                 match m.sm.state {
                     PlanarState::Enabled => {
-                        m.mode = if in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max) {
-                            CommandMode::FreeMovement
-                        } else {
-                            CommandMode::CRotationFreeMovement
+                        let win = in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max);
+                        // After a QuickStop reset a mover is still on its track.
+                        m.mode = match (m.track.is_some(), win) {
+                            (false, true) => CommandMode::FreeMovement,
+                            (false, false) => CommandMode::CRotationFreeMovement,
+                            (true, true) => CommandMode::OnTrack,
+                            (true, false) => CommandMode::CRotationOnTrack,
                         };
                     }
                     PlanarState::Disabled => {
@@ -1510,6 +1555,8 @@ impl PlanarEngine {
                         m.path = None;
                         m.xy = Kin2::at_rest(m.xy.pos);
                         m.c_mode = CCoordinateMode::Independent;
+                        // §2.1: a disabled mover is detached from its track.
+                        self.detach_from_track(i);
                     }
                     _ => {}
                 }
@@ -1525,7 +1572,7 @@ impl PlanarEngine {
     }
 
     /// Envelope of a mover state: footprint swept along its maximum-dynamics stop (§5.11 guard).
-    fn envelope_of(m: &Mover, xy: &Kin2, c: &State1) -> ConvexPolygon {
+    pub(crate) fn envelope_of(m: &Mover, xy: &Kin2, c: &State1) -> ConvexPolygon {
         let c_moves = c.vel != 0.0 || c.acc != 0.0;
         let fp = if c_moves {
             let h = m.diag() / 2.0;
@@ -1562,8 +1609,13 @@ impl PlanarEngine {
         let mut grid = std::mem::take(&mut self.grid);
         let mut cand = std::mem::take(&mut self.scratch);
         grid.clear();
-        for (i, m) in self.movers.iter().enumerate() {
-            grid.insert(m.cs, i as u32, &m.envelope);
+        // Fast path (crate::track): every mover on one and the same track, where gap control
+        // alone separates them; the guard grid is then not needed this cycle.
+        self.guard_full = !self.all_on_one_track();
+        if self.guard_full {
+            for (i, m) in self.movers.iter().enumerate() {
+                grid.insert(m.cs, i as u32, &m.envelope);
+            }
         }
         for i in 0..self.movers.len() {
             self.step_mover(i, dt, &mut grid, &mut cand);
@@ -1660,6 +1712,10 @@ impl PlanarEngine {
         if let Some((id, _msg)) = fault {
             self.mover_error(i, id, ErrorReaction::QuickStop);
             esg_abs = None;
+        }
+        if self.movers[i].track.is_some() {
+            self.step_track_mover(i, dt, grid, cand);
+            return;
         }
         let m = &self.movers[i];
         let relative = m
@@ -1774,7 +1830,7 @@ impl PlanarEngine {
     }
 
     /// The guard refuses the next set point of mover `i` because of mover `j`.
-    fn guard_fire(&mut self, i: usize, j: usize, esg: bool) {
+    pub(crate) fn guard_fire(&mut self, i: usize, j: usize, esg: bool) {
         let info = PlanarObjectInfo {
             object_type: PlanarObjectType::Mover,
             id: self.movers[j].oid,
@@ -1819,10 +1875,12 @@ impl PlanarEngine {
     }
 
     /// Bookkeeping once axes come to rest: Halt/Stop done, CRotation exit, reservation release.
-    fn finish_idle(&mut self, i: usize) {
+    pub(crate) fn finish_idle(&mut self, i: usize) {
+        self.track_finish_idle(i);
         let ev_ = &mut self.pending;
         let m = &mut self.movers[i];
-        let xy_rest = m.path.is_none() && !m.xy.moving();
+        let xy_rest =
+            m.path.is_none() && !m.xy.moving() && m.track.as_ref().is_none_or(|t| t.plan.is_none());
         let c_rest = !m.c.moving();
         if m.guard_stop && xy_rest && c_rest {
             m.guard_stop = false;
@@ -1875,7 +1933,8 @@ impl PlanarEngine {
         let o = &m.offset;
         let xy = m.xy_out();
         let busy_xyc = m.xy_cmd.is_some()
-            || m.halt_cmd.is_some() && m.path.is_some()
+            || m.halt_cmd.is_some()
+                && (m.path.is_some() || m.track.as_ref().is_some_and(|t| t.plan.is_some()))
             || m.esg
                 .as_ref()
                 .is_some_and(|e| e.mode == ExternalSetpointMode::Absolute);
@@ -1943,6 +2002,12 @@ impl PlanarEngine {
                 b: m.b_cmd,
                 external_setpoint: m.esg.as_ref().map(|e| e.session),
             },
+            on_track: self.on_track_snapshot(m),
+            joining_or_leaving: m
+                .joining
+                .map(|j| j.0)
+                .or(m.leaving)
+                .map(|k| self.tracks[k].name.clone()),
         }
     }
 
@@ -2339,9 +2404,17 @@ impl PlanarEngine {
                             .sm
                             .error(E_OBJECT_ERROR, reaction, &t, &mut self.pending);
                     }
+                    ObjectKind::Track => {
+                        let k = self.track(&name)?;
+                        self.tracks[k]
+                            .sm
+                            .error(E_OBJECT_ERROR, reaction, &t, &mut self.pending);
+                    }
                 }
                 self.done_now()
             }
+            // Tracks and the on-track mover methods (§3.2, §3.3): crate::track.
+            cmd => self.track_command(cmd),
         }
     }
 }
@@ -2360,6 +2433,8 @@ impl Engine for PlanarEngine {
         let dt = tick.dt;
         self.step_parts(dt);
         self.step_states(dt);
+        self.step_tracks(dt);
+        self.step_axes(dt);
         self.step_motion(dt);
         self.time += dt;
         events.append(&mut self.pending);
@@ -2385,11 +2460,20 @@ impl Engine for PlanarEngine {
             groups: self
                 .groups
                 .iter()
-                .map(|g| GroupSnapshot {
+                .enumerate()
+                .map(|(gi, g)| GroupSnapshot {
                     name: g.name.clone(),
                     oid: g.oid,
                     state: g.sm.state,
-                    member_count: g.movers.len() + g.environment as usize,
+                    member_count: g.movers.len()
+                        + g.environment as usize
+                        + self.tracks.iter().filter(|t| t.group == Some(gi)).count(),
+                    tracks: self
+                        .tracks
+                        .iter()
+                        .filter(|t| t.group == Some(gi))
+                        .map(|t| t.name.clone())
+                        .collect(),
                     movers: g
                         .movers
                         .iter()
@@ -2415,6 +2499,8 @@ impl Engine for PlanarEngine {
                     }
                 })
                 .collect(),
+            tracks: self.track_snapshots(),
+            axes: self.axis_snapshots(),
         }
     }
 

@@ -1,7 +1,8 @@
-//! XPlanar planar-motion engine (xplanar.md), part 1: environment, parts and coordinate
-//! systems, movers with six coordinates, groups with area reservation, feedback, and the
-//! no-overlap guard. Tracks, track networks and trails (§1.6, §5.4–§5.6, §5.8) come later;
-//! their command modes already exist in [`CommandMode`] and the matrix ([`admission`]).
+//! XPlanar planar-motion engine (xplanar.md): environment, parts and coordinate systems,
+//! movers with six coordinates, groups with area reservation, feedback, the no-overlap guard,
+//! and tracks ([`track`]): C² geometry, operation modes, join/leave, MoveOnTrack with gap
+//! control and modulo positioning on closed loops, networks with switch collision avoidance,
+//! AdoptTrackOrientation, gear-in on a master mover or a virtual axis along a trail.
 //!
 //! Pure and deterministic: [`PlanarEngine`] implements [`motion_core::Engine`]; time comes
 //! only from `step(tick)`.
@@ -11,12 +12,13 @@
 //! engine.command(PlanarCommand::MoveToPosition { mover, target_position, constraint, options })
 //!     -> Ok(PlanarReply { id, warning_id, value }) | Err(Rejection { error_id, message })
 //! engine.step(Tick { index, dt }, &mut events)   // CommandEvent { id, state } per change
-//! engine.snapshot() -> PlanarSnapshot { environment, movers, groups, parts }
+//! engine.snapshot() -> PlanarSnapshot { environment, movers, groups, parts, tracks, axes }
 //! ```
 //!
 //! Module map: [`config`] (§1.12), `state` (§2.1), [`admission`] (§2.3), [`command`] (§3),
 //! [`types`] (§3.8, §4), [`motion`] (§5.1–§5.3), [`geometry`] and `guard` (§5.11 and the
-//! no-overlap invariant), [`errors`] (§6.2), [`snapshot`] (§4.4).
+//! no-overlap invariant), [`errors`] (§6.2), [`snapshot`] (§4.4), [`track`] (§1.6, §2.5,
+//! §3.3, §5.4–§5.9, §5.12; [`bench_loop`] is the benchmark scene).
 
 pub mod admission;
 pub mod command;
@@ -29,18 +31,25 @@ pub mod motion;
 mod objects;
 pub mod snapshot;
 mod state;
+pub mod track;
 pub mod types;
 
 pub use admission::{admissible, AdmissionContext, CommandKind};
 pub use command::{ObjectKind, PlanarCommand};
 pub use config::{
     EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig, PartPositionConfig,
-    PlanarConfig,
+    PlanarConfig, TrackConfig, VirtualAxisConfig,
 };
 pub use engine::PlanarEngine;
 pub use snapshot::{
-    ActiveCommands, BusyFlags, EnvironmentSnapshot, GroupSnapshot, MoverSnapshot, PartSnapshot,
-    PlanarReply, PlanarSnapshot, ReplyValue,
+    ActiveCommands, BusyFlags, EnvironmentSnapshot, GroupSnapshot, MoverSnapshot, OnTrackSnapshot,
+    PartSnapshot, PlanarReply, PlanarSnapshot, ReplyValue, TrackSnapshot, VirtualAxisSnapshot,
 };
 pub use state::Timing;
+pub use track::bench::bench_loop;
+pub use track::geometry::{TrackGeometry, TrackPose};
+pub use track::{
+    AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,
+    MoveOnTrackOptions, SyncDirections, TrackLinkAdvancedOptions, TrackOperationMode, DEFAULT_GAP,
+};
 pub use types::*;

@@ -77,6 +77,12 @@ pub(crate) struct Mover {
     pub envelope: ConvexPolygon,
     pub warning: ErrorId,
     pub c_mode: CCoordinateMode,
+    /// On-track state (OnTrack / CRotationOnTrack, §5.6).
+    pub track: Option<crate::track::TrackMotion>,
+    /// JoiningTrack: (track, join arc length, C dependent afterwards).
+    pub joining: Option<(usize, f64, bool)>,
+    /// LeavingTrack: the track left.
+    pub leaving: Option<usize>,
 }
 
 impl Mover {
@@ -116,6 +122,7 @@ impl Mover {
     /// XY stands still (no XY plan, zero velocity, no absolute set points).
     pub fn xy_standing(&self) -> bool {
         self.path.is_none()
+            && !self.track.as_ref().is_some_and(|t| t.active())
             && !self.xy.moving()
             && !self
                 .esg

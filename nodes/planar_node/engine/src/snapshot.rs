@@ -1,5 +1,6 @@
 //! The published state (xplanar.md §3.1 cyclic status, §4.4 mover blocks).
 
+use crate::track::TrackOperationMode;
 use crate::types::{
     CCoordinateMode, CommandMode, ErrorReaction, ExternalSetpointMode, MoverVector,
     PlanarObjectInfo, PlanarState, PositionXYC,
@@ -84,6 +85,68 @@ pub struct MoverSnapshot {
     pub c_coordinate_mode: CCoordinateMode,
     /// Active command per domain.
     pub active: ActiveCommands,
+    /// `SETONTRACK` (None while not on a track).
+    pub on_track: Option<OnTrackSnapshot>,
+    /// Track being joined or left (JoiningTrack / LeavingTrack).
+    pub joining_or_leaving: Option<String>,
+}
+
+/// `SETONTRACK` of a mover (§4.4).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OnTrackSnapshot {
+    /// Track name.
+    pub track: String,
+    /// `TrackOID`.
+    pub track_oid: u32,
+    /// `SetPos`: arc length on the track \[mm\]; unwrapped on closed loops (§5.6.2).
+    pub set_pos: f64,
+    /// `SetPosModulo`: `set_pos` mod L ∈ [0, L) \[mm\].
+    pub set_pos_modulo: f64,
+    /// `SetVelo` along the track \[mm/s\].
+    pub set_velo: f64,
+    /// `SetAcc` along the track \[mm/s²\].
+    pub set_acc: f64,
+    /// `Gap` in force \[mm\].
+    pub gap: f64,
+    /// Held back by gap control (the command waits, §5.6.3).
+    pub waiting: bool,
+    /// A gear-in is running and the slave is synchronous (`inSync`, §5.8.1).
+    pub in_sync: bool,
+    /// Master mover of a running gear-in.
+    pub gear_master: Option<String>,
+}
+
+/// A track (`MCTOPLC_STD` and online values, §1.6, §3.3).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrackSnapshot {
+    /// Name.
+    pub name: String,
+    /// OID.
+    pub oid: u32,
+    /// Planar state.
+    pub state: PlanarState,
+    /// Operation mode (§2.5).
+    pub operation_mode: TrackOperationMode,
+    /// Length \[mm\].
+    pub length: f64,
+    /// Closed loop online information.
+    pub closed_loop: bool,
+    /// Number of movers on the track.
+    pub mover_count: usize,
+    /// Mover names in track order.
+    pub movers: Vec<String>,
+    /// Previous Tracks (their end is this start).
+    pub previous_tracks: Vec<String>,
+    /// Subsequent Tracks (their start is this end).
+    pub subsequent_tracks: Vec<String>,
+    /// Part OID (0 = none).
+    pub part_oid: u32,
+    /// Collision range at the start (automatic; 0 without a switch there) \[mm\] (§5.6.4).
+    pub collision_range_start: f64,
+    /// Collision range at the end \[mm\].
+    pub collision_range_end: f64,
+    /// Subsequent Tracks whose link is traversable with the current part positions (§5.12).
+    pub traversable_subsequent_tracks: Vec<String>,
 }
 
 /// A group.
@@ -101,6 +164,8 @@ pub struct GroupSnapshot {
     pub movers: Vec<String>,
     /// True if the environment is a member.
     pub environment_member: bool,
+    /// Member track names (§5.11).
+    pub tracks: Vec<String>,
 }
 
 /// A part (`PlanarPartsInfo`, §1.2, §1.10).
@@ -157,6 +222,29 @@ pub struct PlanarSnapshot {
     pub groups: Vec<GroupSnapshot>,
     /// Parts in configuration order.
     pub parts: Vec<PartSnapshot>,
+    /// Tracks in configuration order.
+    pub tracks: Vec<TrackSnapshot>,
+    /// Virtual master axes in configuration order (§5.8.4).
+    pub axes: Vec<VirtualAxisSnapshot>,
+}
+
+/// A virtual master axis (§5.8.4).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VirtualAxisSnapshot {
+    /// Name.
+    pub name: String,
+    /// OID.
+    pub oid: u32,
+    /// Power enabled.
+    pub powered: bool,
+    /// Position \[mm\].
+    pub position: f64,
+    /// Velocity \[mm/s\].
+    pub velocity: f64,
+    /// Acceleration \[mm/s²\].
+    pub acceleration: f64,
+    /// A MoveAbsolute/Halt is running.
+    pub busy: bool,
 }
 
 impl PlanarSnapshot {
@@ -168,6 +256,11 @@ impl PlanarSnapshot {
     /// The group with this name.
     pub fn group(&self, name: &str) -> Option<&GroupSnapshot> {
         self.groups.iter().find(|g| g.name == name)
+    }
+
+    /// The track with this name.
+    pub fn track(&self, name: &str) -> Option<&TrackSnapshot> {
+        self.tracks.iter().find(|t| t.name == name)
     }
 
     /// The part with this name.
@@ -196,4 +289,6 @@ pub enum ReplyValue {
     Position(PositionXYC),
     /// GetPlanarObjectInfo.
     ObjectInfo(PlanarObjectInfo),
+    /// A number (track GetLength, GetArcLengthClosestTo) \[mm\].
+    Scalar(f64),
 }
