@@ -1,7 +1,7 @@
 //! Benchmarks (not timed tests): figures are printed, with ratios against references measured
 //! in the same run.
 //!
-//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [pickplace] [ruckig]` (default: all). `--smoke` runs short
+//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [tracks] [pickplace] [ruckig]` (default: all). `--smoke` runs short
 //! versions (CI).
 //! - runtime: cycle jitter p50/p99/max and overruns of the cyclic controller at 1 kHz with a
 //!   trivial engine (60 s; smoke 2 s).
@@ -14,6 +14,8 @@
 //!   plain single-axis step of as many axes.
 //! - planar: engine step cost for 10, 100, 500 movers moving freely with the overlap guard,
 //!   against evaluating their X/Y/C profiles alone.
+//! - tracks: movers on a closed-loop track with gap control, 50, 200, 500 movers, against
+//!   one profile evaluation per mover.
 //! - pickplace: cell step mean and p99.9 (2 belts × 30 workpieces, blended ellipse) against the
 //!   manual's module; cycles from an execute edge to the first moving set point.
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
@@ -30,6 +32,7 @@ use system_tests::ClientNode;
 mod ca;
 mod pickplace;
 mod planar;
+mod tracks;
 
 /// A trivial engine: one integrator; a command is accepted at once.
 struct Trivial {
@@ -95,6 +98,12 @@ fn main() {
     if all || args.iter().any(|a| a == "planar") {
         planar::step_cost(
             if smoke { &[10, 100] } else { &[10, 100, 500] },
+            if smoke { 200 } else { 2000 },
+        );
+    }
+    if all || args.iter().any(|a| a == "tracks") {
+        tracks::step_cost(
+            if smoke { &[50] } else { &[50, 200, 500] },
             if smoke { 200 } else { 2000 },
         );
     }
