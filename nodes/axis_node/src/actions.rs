@@ -187,6 +187,40 @@ motion_action!(
 );
 
 motion_action!(
+    JogAction,
+    Jog,
+    JogGoal,
+    JogResult,
+    JogFeedback,
+    |g: &JogGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        let mode = axis_engine::JogMode::from_raw(u32::from(g.mode))?;
+        if !(g.jog_forward || g.jog_backwards) {
+            return Err(Rejection::new(
+                motion_core::ErrorId::VALUE_OUT_OF_RANGE,
+                format!(
+                    "axis '{}': MC_Jog goal without a button (jog_forward or jog_backwards)",
+                    g.axis
+                ),
+            ));
+        }
+        Ok((
+            AxisCommand::Jog(axis_engine::Jog {
+                axis: g.axis.clone(),
+                jog_forward: g.jog_forward,
+                jog_backwards: g.jog_backwards,
+                mode,
+                position: g.position,
+                velocity: g.velocity,
+                acceleration: g.acceleration,
+                deceleration: g.deceleration,
+                jerk: g.jerk,
+            }),
+            crate::services::label(&g.axis, "jog"),
+        ))
+    }
+);
+
+motion_action!(
     HaltAction,
     Halt,
     HaltGoal,
@@ -354,6 +388,7 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
     shell.action("move_velocity", MoveVelocityAction)?;
     shell.action("move_modulo", MoveModuloAction)?;
     shell.action("halt", HaltAction)?;
+    shell.action("jog", JogAction)?;
     shell.action("home", HomeAction)?;
     shell.action("gear_in", GearInAction)?;
     shell.action("move_superimposed", MoveSuperImposedAction)?;

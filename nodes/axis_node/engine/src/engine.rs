@@ -2561,6 +2561,11 @@ impl Engine for AxisEngine {
         if self.cancel_axis3(&inst, id) {
             return Ok(());
         }
+        if inst.kind == FbKind::Jog {
+            // A jog goal's cancel lets go of its button (Execute falling, §4.11): continuous
+            // modes brake with the jog's own deceleration and end Done, as for an operator.
+            return self.set_execute(id, false).map(|_| ());
+        }
         let a = &mut self.axes[inst.axis];
         if a.pending.is_some_and(|p| p.owner == id) {
             a.pending = None;

@@ -2,6 +2,7 @@
 mod common;
 use axis_engine::*;
 use common::*;
+use motion_core::Engine;
 
 fn jog(fwd: bool, back: bool, mode: JogMode, position: f64, velocity: f64) -> AxisCommand {
     AxisCommand::Jog(Jog {
@@ -131,4 +132,25 @@ fn stop_aborts_a_jog() {
     r.steps(100);
     r.id(stop(0.0, 0.0));
     assert!(r.out(j).command_aborted);
+}
+
+/// The ROS layer's cancel of a jog goal is the button release: the axis brakes with the jog's
+/// deceleration and the instance ends Done (a move's cancel is MC_Halt and ends Aborted).
+#[test]
+fn cancel_of_a_jog_releases_the_button() {
+    let mut r = Rig::powered();
+    let id = r.id(jog(true, false, JogMode::Continous, 0.0, 42.0));
+    r.steps(500);
+    assert!((r.st().set_velo - 42.0).abs() < 1e-9);
+    r.e.cancel(id).unwrap();
+    r.until(5000, |r| r.out(id).done);
+    assert!(!r.out(id).command_aborted);
+    assert_eq!(r.st().set_velo, 0.0);
+    assert_eq!(r.st().motion_state, MotionState::Standstill);
+    // Inching: the step is finished, the release changes nothing.
+    let p0 = r.st().set_pos;
+    let id = r.id(jog(true, false, JogMode::Inching, 5.0, 50.0));
+    r.e.cancel(id).unwrap();
+    r.until(5000, |r| r.out(id).done);
+    assert!((r.st().set_pos - (p0 + 5.0)).abs() < 1e-9);
 }
