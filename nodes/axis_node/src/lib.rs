@@ -15,6 +15,8 @@
 //!   the entry's `platform_profile`, `groups` and `platform` keys (plcopen_platform.md).
 
 mod actions;
+#[cfg(test)]
+mod config_tests;
 mod convert;
 mod fbs;
 mod groups;
