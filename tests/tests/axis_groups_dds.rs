@@ -22,7 +22,8 @@ use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, ServiceMapping};
 use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
 
-const AXIS: &str = "{ max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0 }";
+const AXIS: &str =
+    "{ max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0 }";
 
 fn start_node(domain: u16, mapping: ServiceMapping, profile: &str) -> AxisNode {
     let text = format!(
@@ -55,9 +56,13 @@ async fn power(c: &mut ClientNode) {
 async fn read_status(
     rs: &Client<AxesGroupReadStatusRequest, AxesGroupReadStatusResponse>,
 ) -> AxesGroupReadStatusResponse {
-    let r = within(5.0, "read_status", rs.async_call_service(Default::default()))
-        .await
-        .unwrap();
+    let r = within(
+        5.0,
+        "read_status",
+        rs.async_call_service(Default::default()),
+    )
+    .await
+    .unwrap();
     assert!(r.accepted, "read_status: {}", r.message);
     r
 }
@@ -69,10 +74,8 @@ async fn groups(mapping: ServiceMapping) {
     let _driver = drive(&node, 5);
     let mut c = ClientNode::new(domain, "test_client", mapping);
 
-    let states = c.subscribe::<AxesGroupState>(
-        "/axis_node/groups/g/state",
-        AxesGroupState::type_name(),
-    );
+    let states =
+        c.subscribe::<AxesGroupState>("/axis_node/groups/g/state", AxesGroupState::type_name());
     let statuses =
         c.subscribe::<CommandStatus>("/axis_node/command_status", CommandStatus::type_name());
     let (first, _) = within(20.0, "first group state", states.async_take())
@@ -91,9 +94,13 @@ async fn groups(mapping: ServiceMapping) {
             AxesGroupCommand::service_type_name(),
         )
         .await;
-    let r = within(5.0, "group_enable", enable.async_call_service(Default::default()))
-        .await
-        .unwrap();
+    let r = within(
+        5.0,
+        "group_enable",
+        enable.async_call_service(Default::default()),
+    )
+    .await
+    .unwrap();
     assert!(r.accepted, "group_enable: {}", r.message);
     assert_ne!(r.command_id, 0);
     let rs = c
@@ -245,7 +252,10 @@ async fn groups(mapping: ServiceMapping) {
     let s = read_status(&rs).await;
     assert!(s.group_standby && s.in_position, "{s:?}");
     let act = &s.status.act_position;
-    assert!((act[0] - 30.0).abs() < 1e-9 && (act[1] - 40.0).abs() < 1e-9, "{act:?}");
+    assert!(
+        (act[0] - 30.0).abs() < 1e-9 && (act[1] - 40.0).abs() < 1e-9,
+        "{act:?}"
+    );
 
     drop(c);
     node.stop().await;
@@ -325,7 +335,11 @@ async fn safety(mapping: ServiceMapping) {
     assert_eq!(status, GoalStatusEnum::Aborted, "{result:?}");
     assert!(result.error);
     assert_eq!(result.error_id, 4901, "{}", result.message);
-    assert!(result.message.contains("enabling switch"), "{}", result.message);
+    assert!(
+        result.message.contains("enabling switch"),
+        "{}",
+        result.message
+    );
 
     drop(c);
     node.stop().await;

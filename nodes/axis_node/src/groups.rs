@@ -15,8 +15,7 @@
 use crate::services::{buffer_mode, label, respond, Outcome};
 use axis_engine::group::{
     AddAxisToGroup, CoordSystem, GroupHalt, GroupSetOverride, GroupStop, MoveLinear,
-    MovePath as MovePathCommand,
-    PathSelect, RemoveAxisFromGroup, TransitionMode,
+    MovePath as MovePathCommand, PathSelect, RemoveAxisFromGroup, TransitionMode,
 };
 use axis_engine::{
     AxisCommand, AxisEngine, AxisSnapshot, GroupCommand, GroupReply, GroupStatus, ReplyValue,
@@ -156,9 +155,13 @@ fn register_admin(shell: &mut NodeShell<AxisEngine>, group: &str) -> Result<(), 
     )?;
     type Plain = fn(String) -> GroupCommand;
     let plain: [(&'static str, Plain); 4] = [
-        ("ungroup_all", |group| GroupCommand::UngroupAllAxes { group }),
+        ("ungroup_all", |group| GroupCommand::UngroupAllAxes {
+            group,
+        }),
         ("group_enable", |group| GroupCommand::GroupEnable { group }),
-        ("group_disable", |group| GroupCommand::GroupDisable { group }),
+        ("group_disable", |group| GroupCommand::GroupDisable {
+            group,
+        }),
         ("group_reset", |group| GroupCommand::GroupReset { group }),
     ];
     for (fb, make) in plain {

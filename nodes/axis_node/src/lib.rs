@@ -178,10 +178,7 @@ impl AxisNodeConfig {
         }
         for a in engine.platform.axes.keys() {
             if !axes.iter().any(|(n, _)| n == a) {
-                return Err(bad(
-                    &format!("platform.axes.{a}"),
-                    "not a configured axis",
-                ));
+                return Err(bad(&format!("platform.axes.{a}"), "not a configured axis"));
             }
         }
         Ok(AxisNodeConfig { axes, engine })

@@ -79,7 +79,11 @@ fn decode_deactivate(r: SafetyDeactivateRequest) -> Decoded {
 
 fn decode_operating_mode(r: SafetyOperatingModeRequest) -> Decoded {
     let mode = OperatingMode::from_raw(u32::from(r.mode))?;
-    platform("", "safety/operating_mode", PlatformCommand::OperatingMode { mode })
+    platform(
+        "",
+        "safety/operating_mode",
+        PlatformCommand::OperatingMode { mode },
+    )
 }
 
 fn decode_enabling_switch(r: SafetyButtonRequest) -> Decoded {
