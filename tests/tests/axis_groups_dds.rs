@@ -6,6 +6,7 @@
 
 use axis_node::AxisNode;
 use motion_msgs::action::{
+    AxesGroupHalt, AxesGroupHaltFeedback, AxesGroupHaltGoal, AxesGroupHaltResult,
     MoveLinearAbsolute, MoveLinearAbsoluteFeedback, MoveLinearAbsoluteGoal,
     MoveLinearAbsoluteResult,
 };
@@ -15,8 +16,9 @@ use motion_msgs::srv::{
     AxesGroupCommandRequest, AxesGroupCommandResponse, AxesGroupReadActual,
     AxesGroupReadActualRequest, AxesGroupReadActualResponse, AxesGroupReadStatus,
     AxesGroupReadStatusRequest, AxesGroupReadStatusResponse, AxesGroupStop, AxesGroupStopRequest,
-    AxesGroupStopResponse, Power, PowerRequest, PowerResponse, SafetyOperatingMode,
-    SafetyOperatingModeRequest, SafetyOperatingModeResponse,
+    AxesGroupStopResponse, Power, PowerRequest, PowerResponse, SafetyButton, SafetyButtonRequest,
+    SafetyButtonResponse, SafetyOperatingMode, SafetyOperatingModeRequest,
+    SafetyOperatingModeResponse,
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, ServiceMapping};
@@ -257,6 +259,69 @@ async fn groups(mapping: ServiceMapping) {
         "{act:?}"
     );
 
+    // Cancel of a group move = MC_GroupHalt: the goal ends Canceled, the group stands still.
+    let slow = MoveLinearAbsoluteGoal {
+        position: vec![130.0, 140.0],
+        velocity: 10.0,
+        coord_system: 1,
+        ..Default::default()
+    };
+    let (gid, resp) = send_goal(&ac, "slow move", slow.clone()).await;
+    assert!(resp.accepted);
+    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
+    let cr = within(
+        10.0,
+        "cancel",
+        ac.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
+    assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
+    let (status, result) = within(20.0, "canceled result", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
+    assert!(result.command_aborted, "{result:?}");
+    within(10.0, "standby after the cancel", async {
+        loop {
+            let (s, _) = states.async_take().await.unwrap();
+            // (Older samples from before the move may still be queued.)
+            let moved = s.act_position[0] > 30.0 + 1e-6;
+            if moved && s.state == AxesGroupState::STATE_GROUP_STANDBY && s.path_velocity == 0.0 {
+                assert!(s.act_position[0] < 130.0, "{s:?}");
+                break;
+            }
+        }
+    })
+    .await;
+
+    // MC_GroupHalt as an action: it takes over a running move (CommandAborted) and is Done at
+    // standstill.
+    let halt = c
+        .action::<AxesGroupHaltGoal, AxesGroupHaltResult, AxesGroupHaltFeedback>(
+            "/axis_node/groups/g/group_halt",
+            &AxesGroupHalt::action_type_name(),
+        )
+        .await;
+    let (move_gid, _) = send_goal(&ac, "slow move 2", slow).await;
+    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
+    let (hgid, resp) = send_goal(&halt, "group_halt", AxesGroupHaltGoal::default()).await;
+    assert!(resp.accepted);
+    let (status, result) = within(20.0, "halt result", halt.async_request_result(hgid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert!(result.done && result.positions.len() == 2, "{result:?}");
+    let (status, result) = within(
+        20.0,
+        "halted move result",
+        ac.async_request_result(move_gid),
+    )
+    .await
+    .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted, "{result:?}");
+    assert!(result.command_aborted && !result.error, "{result:?}");
+
     drop(c);
     node.stop().await;
 }
@@ -340,6 +405,41 @@ async fn safety(mapping: ServiceMapping) {
         "{}",
         result.message
     );
+
+    // Enabling switch and START held: the move runs in T1 (R-SAF-5) to its end.
+    power(&mut c).await;
+    for (name, pressed) in [
+        ("/axis_node/safety/enabling_switch", true),
+        ("/axis_node/safety/start_button", true),
+    ] {
+        let b = c
+            .client::<SafetyButtonRequest, SafetyButtonResponse>(
+                name,
+                SafetyButton::service_type_name(),
+            )
+            .await;
+        let r = within(
+            5.0,
+            name,
+            b.async_call_service(SafetyButtonRequest { pressed }),
+        )
+        .await
+        .unwrap();
+        assert!(r.accepted, "{name}: {}", r.message);
+    }
+    let goal = MoveLinearAbsoluteGoal {
+        position: vec![10.0, 20.0],
+        velocity: 500.0,
+        coord_system: 1,
+        ..Default::default()
+    };
+    let (gid, _) = send_goal(&ac, "move in T1 with START", goal).await;
+    let (status, result) = within(20.0, "T1 move with START", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert!((result.positions[0] - 10.0).abs() < 1e-9, "{result:?}");
+    assert!((result.positions[1] - 20.0).abs() < 1e-9, "{result:?}");
 
     drop(c);
     node.stop().await;
