@@ -16,9 +16,9 @@ use motion_msgs::srv::{
     AxesGroupCommandRequest, AxesGroupCommandResponse, AxesGroupReadActual,
     AxesGroupReadActualRequest, AxesGroupReadActualResponse, AxesGroupReadStatus,
     AxesGroupReadStatusRequest, AxesGroupReadStatusResponse, AxesGroupStop, AxesGroupStopRequest,
-    AxesGroupStopResponse, Power, PowerRequest, PowerResponse, SafetyButton, SafetyButtonRequest,
-    SafetyButtonResponse, SafetyOperatingMode, SafetyOperatingModeRequest,
-    SafetyOperatingModeResponse,
+    AxesGroupStopResponse, GetOutputs, GetOutputsRequest, GetOutputsResponse, Power, PowerRequest,
+    PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode,
+    SafetyOperatingModeRequest, SafetyOperatingModeResponse,
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, ServiceMapping};
@@ -105,6 +105,29 @@ async fn groups(mapping: ServiceMapping) {
     .unwrap();
     assert!(r.accepted, "group_enable: {}", r.message);
     assert_ne!(r.command_id, 0);
+    // The instance's outputs by command id (~/get_outputs): Done the cycle after the edge.
+    let outputs = c
+        .client::<GetOutputsRequest, GetOutputsResponse>(
+            "/axis_node/get_outputs",
+            GetOutputs::service_type_name(),
+        )
+        .await;
+    within(10.0, "group_enable Done on ~/get_outputs", async {
+        loop {
+            let o = outputs
+                .async_call_service(GetOutputsRequest {
+                    command_id: r.command_id,
+                })
+                .await
+                .unwrap();
+            assert!(o.accepted && !o.error, "{o:?}");
+            if o.done {
+                break;
+            }
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
+    })
+    .await;
     let rs = c
         .client::<AxesGroupReadStatusRequest, AxesGroupReadStatusResponse>(
             "/axis_node/groups/g/read_status",
