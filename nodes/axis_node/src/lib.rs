@@ -18,6 +18,7 @@ mod actions;
 #[cfg(test)]
 mod config_tests;
 mod convert;
+mod engine_config;
 mod fbs;
 mod groups;
 mod jog;
@@ -25,7 +26,7 @@ mod platform;
 mod reads;
 mod services;
 
-use axis_engine::{AxisConfig, AxisEngine, EngineConfig, PlatformProfile};
+use axis_engine::{AxisConfig, AxisEngine, EngineConfig};
 use motion_runtime::host::{from_value, CommonConfig, ConfigError};
 use motion_runtime::launch::{RunningNode, StartError};
 use motion_runtime::{NodeHost, NodeKind, NodeShell, ShellError};
@@ -56,37 +57,10 @@ fn parse(
 }
 
 fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
-    AxisEngine::with_config(cfg.axes, &cfg.engine).map_err(|r| {
-        // The engine names the group or axis; the key is the part of the entry it came from.
-        let key = if r.message.starts_with("group") {
-            "groups"
-        } else if r.message.contains("platform config") {
-            "platform"
-        } else {
-            "axes"
-        };
-        ConfigError {
-            location: format!("{location}.{key}"),
-            message: r.message,
-        }
+    AxisEngine::with_config(cfg.axes, &cfg.engine).map_err(|r| ConfigError {
+        location: format!("{location}.{}", engine_config::build_error_key(&r.message)),
+        message: r.message,
     })
-}
-
-/// A group name becomes part of ROS names (`~/groups/<group>/...`): a name token.
-fn ros_token(name: &str) -> bool {
-    let mut chars = name.chars();
-    chars
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
-}
-
-/// `platform_profile` as the launch config spells it.
-fn profile_name(p: PlatformProfile) -> &'static str {
-    match p {
-        PlatformProfile::Tc2Mc2 => "tc2_mc2",
-        PlatformProfile::IsgMcp => "isg_mcp",
-    }
 }
 
 /// The engine part of an `axis_node` entry of a launch config.
@@ -134,14 +108,8 @@ impl AxisNodeConfig {
                         axes.push((name.to_string(), c));
                     }
                 }
-                Some(key @ ("platform_profile" | "groups" | "platform")) => {
-                    let one = serde_yaml::Mapping::from_iter([(k.clone(), val.clone())]);
-                    // Each key on its own, so the error names it.
-                    from_value::<EngineConfig>(
-                        serde_yaml::Value::Mapping(one),
-                        &format!("{location}.{key}"),
-                    )?;
-                    engine.insert(k, val);
+                Some(key) if engine_config::KEYS.contains(&key) => {
+                    engine_config::take_key(&mut engine, key, val, location)?
                 }
                 Some(other) => {
                     return Err(bad(
@@ -155,32 +123,7 @@ impl AxisNodeConfig {
         if axes.is_empty() {
             return Err(bad("axes", "no axis configured"));
         }
-        let engine: EngineConfig = from_value(serde_yaml::Value::Mapping(engine), location)?;
-        for (k, g) in engine.groups.iter().enumerate() {
-            let key = format!("groups[{k}]");
-            if !ros_token(&g.name) {
-                return Err(bad(
-                    &format!("{key}.name"),
-                    &format!(
-                        "'{}' is not a ROS name token (letters, digits, _; not starting with a digit)",
-                        g.name
-                    ),
-                ));
-            }
-            for a in &g.axes {
-                if !axes.iter().any(|(n, _)| n == a) {
-                    return Err(bad(
-                        &format!("{key}.axes"),
-                        &format!("'{a}' is not a configured axis"),
-                    ));
-                }
-            }
-        }
-        for a in engine.platform.axes.keys() {
-            if !axes.iter().any(|(n, _)| n == a) {
-                return Err(bad(&format!("platform.axes.{a}"), "not a configured axis"));
-            }
-        }
+        let engine = engine_config::finish(engine, &axes, location)?;
         Ok(AxisNodeConfig { axes, engine })
     }
 }
@@ -197,7 +140,7 @@ pub fn start(
 ) -> Result<AxisNode, StartError> {
     let (mut cfg, names) = parse(engine_cfg, location)?;
     let groups: Vec<String> = cfg.engine.groups.iter().map(|g| g.name.clone()).collect();
-    let profile = profile_name(cfg.engine.platform_profile);
+    let profile = engine_config::profile_name(cfg.engine.platform_profile);
     // AxisCycleTime (1050) reports the node's cycle: the engine integrates with its tick.
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
