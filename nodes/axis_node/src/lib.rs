@@ -9,16 +9,24 @@
 //! - actions for the motions that end (`actions`): Done, or the FB's Done-type output
 //!   (InVelocity, InEndVelocity, InTorque, InGear); cancel = MC_Halt;
 //! - topics `~/axis_states` (motion_msgs/AxisStateArray), `joint_states`
-//!   (sensor_msgs/JointState), `~/command_status`, `/diagnostics`.
+//!   (sensor_msgs/JointState), `~/command_status`, `/diagnostics`;
+//! - PLCopen Part 4 axis groups under `~/groups/<group>/` (`groups`) and the platform
+//!   profile's safety/simulation services and `~/platform/status` (`platform`), configured by
+//!   the entry's `platform_profile`, `groups` and `platform` keys (plcopen_platform.md).
 
 mod actions;
+#[cfg(test)]
+mod config_tests;
 mod convert;
+mod engine_config;
 mod fbs;
+mod groups;
 mod jog;
+mod platform;
 mod reads;
 mod services;
 
-use axis_engine::{AxisConfig, AxisEngine};
+use axis_engine::{AxisConfig, AxisEngine, EngineConfig};
 use motion_runtime::host::{from_value, CommonConfig, ConfigError};
 use motion_runtime::launch::{RunningNode, StartError};
 use motion_runtime::{NodeHost, NodeKind, NodeShell, ShellError};
@@ -49,8 +57,8 @@ fn parse(
 }
 
 fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
-    AxisEngine::new(cfg.axes).map_err(|r| ConfigError {
-        location: format!("{location}.axes"),
+    AxisEngine::with_config(cfg.axes, &cfg.engine).map_err(|r| ConfigError {
+        location: format!("{location}.{}", engine_config::build_error_key(&r.message)),
         message: r.message,
     })
 }
@@ -60,10 +68,15 @@ fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError>
 pub struct AxisNodeConfig {
     /// Axes in configuration order: name and parameters (single_axis.md §1.2 defaults).
     pub axes: Vec<(String, AxisConfig)>,
+    /// `platform_profile`, `groups` and `platform` (plcopen_platform.md): the engine-level
+    /// configuration.
+    pub engine: EngineConfig,
 }
 
 impl AxisNodeConfig {
-    /// Reads `axes: { <name>: { <parameter>: value, ... }, ... }` (order kept).
+    /// Reads `axes: { <name>: { <parameter>: value, ... }, ... }` (order kept), and optional
+    /// `platform_profile: tc2_mc2 | isg_mcp` (default tc2_mc2), `groups: [{name, axes: [..]}]`,
+    /// `platform: {...}` (the engine's `EngineConfig`).
     pub fn from_yaml(v: serde_yaml::Value, location: &str) -> Result<Self, ConfigError> {
         let bad = |key: &str, msg: &str| ConfigError {
             location: format!("{location}.{key}"),
@@ -75,6 +88,7 @@ impl AxisNodeConfig {
             _ => return Err(bad("", "expected a mapping")),
         };
         let mut axes = Vec::new();
+        let mut engine = serde_yaml::Mapping::new();
         for (k, val) in map {
             match k.as_str() {
                 Some("axes") => {
@@ -94,14 +108,23 @@ impl AxisNodeConfig {
                         axes.push((name.to_string(), c));
                     }
                 }
-                Some(other) => return Err(bad(other, "unknown key (axis_node takes: axes)")),
+                Some(key) if engine_config::KEYS.contains(&key) => {
+                    engine_config::take_key(&mut engine, key, val, location)?
+                }
+                Some(other) => {
+                    return Err(bad(
+                        other,
+                        "unknown key (axis_node takes: axes, platform_profile, groups, platform)",
+                    ))
+                }
                 None => return Err(bad("?", "keys must be strings")),
             }
         }
         if axes.is_empty() {
             return Err(bad("axes", "no axis configured"));
         }
-        Ok(AxisNodeConfig { axes })
+        let engine = engine_config::finish(engine, &axes, location)?;
+        Ok(AxisNodeConfig { axes, engine })
     }
 }
 
@@ -116,22 +139,30 @@ pub fn start(
     domain_id: u16,
 ) -> Result<AxisNode, StartError> {
     let (mut cfg, names) = parse(engine_cfg, location)?;
+    let groups: Vec<String> = cfg.engine.groups.iter().map(|g| g.name.clone()).collect();
+    let profile = engine_config::profile_name(cfg.engine.platform_profile);
     // AxisCycleTime (1050) reports the node's cycle: the engine integrates with its tick.
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
     }
     let engine = build(cfg, location)?;
-    let params = vec![(
-        "axes".to_string(),
-        ParameterValue::StringArray(names.clone()),
-    )];
+    let params = vec![
+        (
+            "axes".to_string(),
+            ParameterValue::StringArray(names.clone()),
+        ),
+        (
+            "platform_profile".to_string(),
+            ParameterValue::String(profile.to_string()),
+        ),
+    ];
     Ok(NodeHost::start(
         KIND,
         common,
         domain_id,
         engine,
         params,
-        |shell| setup(shell, names),
+        |shell| setup(shell, names, groups),
     )?)
 }
 
@@ -144,11 +175,17 @@ fn start_boxed(
     Ok(Box::new(start(c, v, loc, d)?))
 }
 
-fn setup(shell: &mut NodeShell<AxisEngine>, names: Vec<String>) -> Result<(), ShellError> {
+fn setup(
+    shell: &mut NodeShell<AxisEngine>,
+    names: Vec<String>,
+    groups: Vec<String>,
+) -> Result<(), ShellError> {
     services::register(shell)?;
     reads::register(shell)?;
     jog::register(shell)?;
     actions::register(shell)?;
     convert::register_topics(shell, names)?;
+    groups::register(shell, &groups)?;
+    platform::register(shell)?;
     Ok(())
 }

@@ -145,6 +145,19 @@ pub(crate) fn fb_name(k: FbKind) -> &'static str {
 fn get_outputs(o: Result<AxisReply, Rejection>, _t: f64) -> GetOutputsResponse {
     let out = match o.map(|r| r.value) {
         Ok(ReplyValue::Outputs(out)) => out,
+        // An instance of a Part 4 group FB: its Execute outputs (groups.rs).
+        Ok(ReplyValue::Group(axis_engine::GroupReply::Outputs(s))) => {
+            return GetOutputsResponse {
+                accepted: true,
+                done: s.done,
+                busy: s.busy,
+                active: s.active,
+                command_aborted: s.command_aborted,
+                error: s.error,
+                fb_error_id: s.error_id.0,
+                ..Default::default()
+            }
+        }
         Ok(v) => {
             return GetOutputsResponse {
                 error_id: unexpected(&v).error_id.0,

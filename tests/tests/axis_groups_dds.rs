@@ -1,0 +1,482 @@
+//! axis_node's PLCopen Part 4 axis groups and ISG platform safety services over real DDS,
+//! in-process (lockstep), with both request/reply mappings: a group of two axes is powered,
+//! enabled, moved by `move_linear_absolute` to its exact end positions, refused with error ids,
+//! stopped by `group_stop` (and released), read back by `read_status`; then an `isg_mcp` node
+//! refuses a group move in T1 without the enabling switch (4901, R-SAF-5).
+
+use axis_node::AxisNode;
+use motion_msgs::action::{
+    AxesGroupHalt, AxesGroupHaltFeedback, AxesGroupHaltGoal, AxesGroupHaltResult,
+    MoveLinearAbsolute, MoveLinearAbsoluteFeedback, MoveLinearAbsoluteGoal,
+    MoveLinearAbsoluteResult,
+};
+use motion_msgs::msg::{AxesGroupState, CommandStatus, PlatformStatus};
+use motion_msgs::srv::{
+    AxesGroupAddAxis, AxesGroupAddAxisRequest, AxesGroupAddAxisResponse, AxesGroupCommand,
+    AxesGroupCommandRequest, AxesGroupCommandResponse, AxesGroupReadActual,
+    AxesGroupReadActualRequest, AxesGroupReadActualResponse, AxesGroupReadStatus,
+    AxesGroupReadStatusRequest, AxesGroupReadStatusResponse, AxesGroupStop, AxesGroupStopRequest,
+    AxesGroupStopResponse, GetOutputs, GetOutputsRequest, GetOutputsResponse, Power, PowerRequest,
+    PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode,
+    SafetyOperatingModeRequest, SafetyOperatingModeResponse,
+};
+use ros2_client::action_msgs::GoalStatusEnum;
+use ros2_client::{Client, ServiceMapping};
+use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
+
+const AXIS: &str =
+    "{ max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0 }";
+
+fn start_node(domain: u16, mapping: ServiceMapping, profile: &str) -> AxisNode {
+    let text = format!(
+        "axes:\n  x: {AXIS}\n  y: {AXIS}\nplatform_profile: {profile}\ngroups:\n  - name: g\n    axes: [x, y]\n"
+    );
+    let cfg: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+    axis_node::start(&common("axis_node", true, mapping), cfg, "test", domain).expect("axis node")
+}
+
+async fn power(c: &mut ClientNode) {
+    let power = c
+        .client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name())
+        .await;
+    for axis in ["x", "y"] {
+        let r = within(
+            5.0,
+            "power",
+            power.async_call_service(PowerRequest {
+                axis: axis.into(),
+                enable: true,
+                ..Default::default()
+            }),
+        )
+        .await
+        .unwrap();
+        assert!(r.accepted, "power {axis}: {}", r.message);
+    }
+}
+
+async fn read_status(
+    rs: &Client<AxesGroupReadStatusRequest, AxesGroupReadStatusResponse>,
+) -> AxesGroupReadStatusResponse {
+    let r = within(
+        5.0,
+        "read_status",
+        rs.async_call_service(Default::default()),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "read_status: {}", r.message);
+    r
+}
+
+/// The tc2_mc2 group scenario.
+async fn groups(mapping: ServiceMapping) {
+    let domain = unique_domain();
+    let node = start_node(domain, mapping, "tc2_mc2");
+    let _driver = drive(&node, 5);
+    let mut c = ClientNode::new(domain, "test_client", mapping);
+
+    let states =
+        c.subscribe::<AxesGroupState>("/axis_node/groups/g/state", AxesGroupState::type_name());
+    let statuses =
+        c.subscribe::<CommandStatus>("/axis_node/command_status", CommandStatus::type_name());
+    let (first, _) = within(20.0, "first group state", states.async_take())
+        .await
+        .unwrap();
+    assert_eq!(first.name, "g");
+    assert_eq!(first.axes, ["x", "y"]);
+    assert_eq!(first.idents, [1, 2]);
+    assert_eq!(first.state, AxesGroupState::STATE_GROUP_DISABLED);
+
+    // Power both members, then MCV_GroupEnable: GroupStandby.
+    power(&mut c).await;
+    let enable = c
+        .client::<AxesGroupCommandRequest, AxesGroupCommandResponse>(
+            "/axis_node/groups/g/group_enable",
+            AxesGroupCommand::service_type_name(),
+        )
+        .await;
+    let r = within(
+        5.0,
+        "group_enable",
+        enable.async_call_service(Default::default()),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "group_enable: {}", r.message);
+    assert_ne!(r.command_id, 0);
+    // The instance's outputs by command id (~/get_outputs): Done the cycle after the edge.
+    let outputs = c
+        .client::<GetOutputsRequest, GetOutputsResponse>(
+            "/axis_node/get_outputs",
+            GetOutputs::service_type_name(),
+        )
+        .await;
+    within(10.0, "group_enable Done on ~/get_outputs", async {
+        loop {
+            let o = outputs
+                .async_call_service(GetOutputsRequest {
+                    command_id: r.command_id,
+                })
+                .await
+                .unwrap();
+            assert!(o.accepted && !o.error, "{o:?}");
+            if o.done {
+                break;
+            }
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
+    })
+    .await;
+    let rs = c
+        .client::<AxesGroupReadStatusRequest, AxesGroupReadStatusResponse>(
+            "/axis_node/groups/g/read_status",
+            AxesGroupReadStatus::service_type_name(),
+        )
+        .await;
+    let s = read_status(&rs).await;
+    assert!(s.group_standby && !s.group_disabled, "{s:?}");
+    assert_eq!(s.status.state, AxesGroupState::STATE_GROUP_STANDBY);
+
+    // MC_MoveLinearAbsolute to (30, 40): Done, members exactly at the targets.
+    let ac = c
+        .action::<MoveLinearAbsoluteGoal, MoveLinearAbsoluteResult, MoveLinearAbsoluteFeedback>(
+            "/axis_node/groups/g/move_linear_absolute",
+            &MoveLinearAbsolute::action_type_name(),
+        )
+        .await;
+    let goal = MoveLinearAbsoluteGoal {
+        position: vec![30.0, 40.0],
+        velocity: 500.0,
+        coord_system: 1,
+        ..Default::default()
+    };
+    let (gid, resp) = send_goal(&ac, "move_linear_absolute", goal).await;
+    assert!(resp.accepted);
+    let (status, result) = within(20.0, "move result", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert!(result.done && !result.error && !result.command_aborted);
+    assert_eq!(result.positions.len(), 2);
+    assert!((result.positions[0] - 30.0).abs() < 1e-9, "{result:?}");
+    assert!((result.positions[1] - 40.0).abs() < 1e-9, "{result:?}");
+    within(10.0, "command_status Done of the group move", async {
+        loop {
+            let (s, _) = statuses.async_take().await.unwrap();
+            if s.done && s.command == "move_linear_absolute" {
+                assert_eq!(s.object, "g");
+                break;
+            }
+        }
+    })
+    .await;
+    let rp = c
+        .client::<AxesGroupReadActualRequest, AxesGroupReadActualResponse>(
+            "/axis_node/groups/g/read_actual_position",
+            AxesGroupReadActual::service_type_name(),
+        )
+        .await;
+    let p = within(
+        5.0,
+        "read_actual_position",
+        rp.async_call_service(AxesGroupReadActualRequest { coord_system: 1 }),
+    )
+    .await
+    .unwrap();
+    assert!(p.accepted, "{}", p.message);
+    assert_eq!(p.values.len(), 2);
+    assert!((p.values[0] - 30.0).abs() < 1e-9 && (p.values[1] - 40.0).abs() < 1e-9);
+
+    // Bad requests with their error ids: coord_system out of range (0x7F03), unknown axis
+    // (0x7F01), NaN target (0x7F02, in the goal's result), wrong number of values (4902).
+    let bad = within(
+        5.0,
+        "read_actual_position coord 9",
+        rp.async_call_service(AxesGroupReadActualRequest { coord_system: 9 }),
+    )
+    .await
+    .unwrap();
+    assert!(!bad.accepted);
+    assert_eq!(bad.error_id, 0x7F03, "{}", bad.message);
+    let add = c
+        .client::<AxesGroupAddAxisRequest, AxesGroupAddAxisResponse>(
+            "/axis_node/groups/g/add_axis",
+            AxesGroupAddAxis::service_type_name(),
+        )
+        .await;
+    let bad = within(
+        5.0,
+        "add_axis nope",
+        add.async_call_service(AxesGroupAddAxisRequest {
+            axis: "nope".into(),
+            ident_in_group: 0,
+        }),
+    )
+    .await
+    .unwrap();
+    assert!(!bad.accepted);
+    assert_eq!(bad.error_id, 0x7F01, "{}", bad.message);
+    assert!(bad.message.contains("nope"));
+    for (position, id) in [(vec![f64::NAN, 1.0], 0x7F02), (vec![1.0], 4902)] {
+        let goal = MoveLinearAbsoluteGoal {
+            position,
+            velocity: 500.0,
+            coord_system: 1,
+            ..Default::default()
+        };
+        let (gid, _) = send_goal(&ac, "bad move", goal).await;
+        let (status, result) = within(20.0, "bad move result", ac.async_request_result(gid))
+            .await
+            .unwrap();
+        assert_eq!(status, GoalStatusEnum::Aborted, "{result:?}");
+        assert!(result.error);
+        assert_eq!(result.error_id, id, "{}", result.message);
+    }
+
+    // MC_GroupStop: GroupStopping while Execute is held, GroupStandby after the falling edge.
+    let stop = c
+        .client::<AxesGroupStopRequest, AxesGroupStopResponse>(
+            "/axis_node/groups/g/group_stop",
+            AxesGroupStop::service_type_name(),
+        )
+        .await;
+    let r = within(
+        5.0,
+        "group_stop",
+        stop.async_call_service(AxesGroupStopRequest {
+            execute: true,
+            ..Default::default()
+        }),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "group_stop: {}", r.message);
+    let s = read_status(&rs).await;
+    assert!(s.group_stopping, "{s:?}");
+    let r = within(
+        5.0,
+        "group_stop release",
+        stop.async_call_service(AxesGroupStopRequest {
+            execute: false,
+            ..Default::default()
+        }),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "group_stop release: {}", r.message);
+    within(10.0, "standby after the release", async {
+        loop {
+            let (s, _) = states.async_take().await.unwrap();
+            if s.state == AxesGroupState::STATE_GROUP_STANDBY {
+                break;
+            }
+        }
+    })
+    .await;
+    let s = read_status(&rs).await;
+    assert!(s.group_standby && s.in_position, "{s:?}");
+    let act = &s.status.act_position;
+    assert!(
+        (act[0] - 30.0).abs() < 1e-9 && (act[1] - 40.0).abs() < 1e-9,
+        "{act:?}"
+    );
+
+    // Cancel of a group move = MC_GroupHalt: the goal ends Canceled, the group stands still.
+    let slow = MoveLinearAbsoluteGoal {
+        position: vec![130.0, 140.0],
+        velocity: 10.0,
+        coord_system: 1,
+        ..Default::default()
+    };
+    let (gid, resp) = send_goal(&ac, "slow move", slow.clone()).await;
+    assert!(resp.accepted);
+    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
+    let cr = within(
+        10.0,
+        "cancel",
+        ac.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
+    assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
+    let (status, result) = within(20.0, "canceled result", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
+    assert!(result.command_aborted, "{result:?}");
+    within(10.0, "standby after the cancel", async {
+        loop {
+            let (s, _) = states.async_take().await.unwrap();
+            // (Older samples from before the move may still be queued.)
+            let moved = s.act_position[0] > 30.0 + 1e-6;
+            if moved && s.state == AxesGroupState::STATE_GROUP_STANDBY && s.path_velocity == 0.0 {
+                assert!(s.act_position[0] < 130.0, "{s:?}");
+                break;
+            }
+        }
+    })
+    .await;
+
+    // MC_GroupHalt as an action: it takes over a running move (CommandAborted) and is Done at
+    // standstill.
+    let halt = c
+        .action::<AxesGroupHaltGoal, AxesGroupHaltResult, AxesGroupHaltFeedback>(
+            "/axis_node/groups/g/group_halt",
+            &AxesGroupHalt::action_type_name(),
+        )
+        .await;
+    let (move_gid, _) = send_goal(&ac, "slow move 2", slow).await;
+    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
+    let (hgid, resp) = send_goal(&halt, "group_halt", AxesGroupHaltGoal::default()).await;
+    assert!(resp.accepted);
+    let (status, result) = within(20.0, "halt result", halt.async_request_result(hgid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert!(result.done && result.positions.len() == 2, "{result:?}");
+    let (status, result) = within(
+        20.0,
+        "halted move result",
+        ac.async_request_result(move_gid),
+    )
+    .await
+    .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted, "{result:?}");
+    assert!(result.command_aborted && !result.error, "{result:?}");
+
+    drop(c);
+    node.stop().await;
+}
+
+/// The isg_mcp safety case: T1 without the enabling switch refuses group motion (4901).
+async fn safety(mapping: ServiceMapping) {
+    let domain = unique_domain();
+    let node = start_node(domain, mapping, "isg_mcp");
+    let _driver = drive(&node, 5);
+    let mut c = ClientNode::new(domain, "test_client", mapping);
+    let platform =
+        c.subscribe::<PlatformStatus>("/axis_node/platform/status", PlatformStatus::type_name());
+    // Start-up over (R-INIT-1), then power.
+    within(20.0, "platform started", async {
+        loop {
+            let (p, _) = platform.async_take().await.unwrap();
+            if p.hli_initialized {
+                assert_eq!(p.profile, PlatformStatus::PROFILE_ISG_MCP);
+                break;
+            }
+        }
+    })
+    .await;
+    power(&mut c).await;
+
+    let mode = c
+        .client::<SafetyOperatingModeRequest, SafetyOperatingModeResponse>(
+            "/axis_node/safety/operating_mode",
+            SafetyOperatingMode::service_type_name(),
+        )
+        .await;
+    let bad = within(
+        5.0,
+        "operating_mode 7",
+        mode.async_call_service(SafetyOperatingModeRequest { mode: 7 }),
+    )
+    .await
+    .unwrap();
+    assert!(!bad.accepted);
+    assert_eq!(bad.error_id, 0x7F03, "{}", bad.message);
+    let r = within(
+        5.0,
+        "operating_mode T1",
+        mode.async_call_service(SafetyOperatingModeRequest { mode: 1 }),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "{}", r.message);
+    within(10.0, "T1 on ~/platform/status", async {
+        loop {
+            let (p, _) = platform.async_take().await.unwrap();
+            if p.operating_mode == PlatformStatus::MODE_T1 {
+                assert!(!p.enabling_switch);
+                break;
+            }
+        }
+    })
+    .await;
+
+    let ac = c
+        .action::<MoveLinearAbsoluteGoal, MoveLinearAbsoluteResult, MoveLinearAbsoluteFeedback>(
+            "/axis_node/groups/g/move_linear_absolute",
+            &MoveLinearAbsolute::action_type_name(),
+        )
+        .await;
+    let goal = MoveLinearAbsoluteGoal {
+        position: vec![10.0, 10.0],
+        velocity: 500.0,
+        coord_system: 1,
+        ..Default::default()
+    };
+    let (gid, _) = send_goal(&ac, "move in T1", goal).await;
+    let (status, result) = within(20.0, "T1 move result", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted, "{result:?}");
+    assert!(result.error);
+    assert_eq!(result.error_id, 4901, "{}", result.message);
+    assert!(
+        result.message.contains("enabling switch"),
+        "{}",
+        result.message
+    );
+
+    // Enabling switch and START held: the move runs in T1 (R-SAF-5) to its end.
+    power(&mut c).await;
+    for (name, pressed) in [
+        ("/axis_node/safety/enabling_switch", true),
+        ("/axis_node/safety/start_button", true),
+    ] {
+        let b = c
+            .client::<SafetyButtonRequest, SafetyButtonResponse>(
+                name,
+                SafetyButton::service_type_name(),
+            )
+            .await;
+        let r = within(
+            5.0,
+            name,
+            b.async_call_service(SafetyButtonRequest { pressed }),
+        )
+        .await
+        .unwrap();
+        assert!(r.accepted, "{name}: {}", r.message);
+    }
+    let goal = MoveLinearAbsoluteGoal {
+        position: vec![10.0, 20.0],
+        velocity: 500.0,
+        coord_system: 1,
+        ..Default::default()
+    };
+    let (gid, _) = send_goal(&ac, "move in T1 with START", goal).await;
+    let (status, result) = within(20.0, "T1 move with START", ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert!((result.positions[0] - 10.0).abs() < 1e-9, "{result:?}");
+    assert!((result.positions[1] - 20.0).abs() < 1e-9, "{result:?}");
+
+    drop(c);
+    node.stop().await;
+}
+
+async fn scenario(mapping: ServiceMapping) {
+    groups(mapping).await;
+    safety(mapping).await;
+}
+
+/// Both mappings in one test: DDS tests in parallel threads of one process slow discovery down.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn axis_groups_over_dds_both_mappings() {
+    require_netns();
+    scenario(ServiceMapping::Cyclone).await;
+    scenario(ServiceMapping::Enhanced).await;
+}
