@@ -3,6 +3,7 @@
 //! error ids), runs an action to its result and cancels one; with both request/reply mappings.
 
 use axis_node::AxisNode;
+use motion_msgs::action::{Jog, JogFeedback, JogGoal, JogResult};
 use motion_msgs::action::{
     MoveAbsolute, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult,
 };
@@ -181,6 +182,59 @@ async fn scenario(mapping: ServiceMapping) {
         }
     })
     .await;
+
+    // MC_Jog as an action: the goal holds the button, cancel releases it; the axis brakes with
+    // the jog's deceleration, the instance ends Done and the goal CANCELED (done = true).
+    let jc = c
+        .action::<JogGoal, JogResult, JogFeedback>("/axis_node/jog", &Jog::action_type_name())
+        .await;
+    let goal = JogGoal {
+        axis: "x".into(),
+        jog_forward: true,
+        mode: JogGoal::MC_JOGMODE_CONTINOUS,
+        velocity: 20.0,
+        ..Default::default()
+    };
+    let (gid, resp) = send_goal(&jc, "send jog goal", goal).await;
+    assert!(resp.accepted);
+    within(10.0, "jogging at 20", async {
+        loop {
+            let (s, _) = states.async_take().await.unwrap();
+            if (s.axes[0].act_velo - 20.0).abs() < 1e-6 {
+                break;
+            }
+        }
+    })
+    .await;
+    let cr = within(
+        10.0,
+        "cancel jog",
+        jc.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
+    assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
+    let (status, result) = within(20.0, "jog result", jc.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
+    assert!(result.done && !result.command_aborted, "{result:?}");
+    // A jog goal without a button is refused with its id.
+    let (gid, _) = send_goal(
+        &jc,
+        "send buttonless jog",
+        JogGoal {
+            axis: "x".into(),
+            jog_forward: false,
+            ..Default::default()
+        },
+    )
+    .await;
+    let (status, result) = within(20.0, "buttonless jog result", jc.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted);
+    assert_eq!(result.error_id, 0x7F06, "{result:?}");
 
     drop(c);
     node.stop().await;

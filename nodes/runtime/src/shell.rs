@@ -912,16 +912,16 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
     };
     // Let the snapshot catch up with the final cycle before building the result.
     let result = binding.result(goal, &handle.snapshot(), end, None);
+    // A goal whose cancel was accepted ends CANCELED (taken over by the halt, or Done: a jog
+    // released by the cancel), unless it failed: the error id then comes with ABORTED.
+    let was_canceled = canceled
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .remove(&goal_id);
     let status = match end {
+        CommandState::Error(_) => GoalEndStatus::Aborted,
+        _ if was_canceled => GoalEndStatus::Canceled,
         CommandState::Done => GoalEndStatus::Succeeded,
-        CommandState::Aborted
-            if canceled
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .remove(&goal_id) =>
-        {
-            GoalEndStatus::Canceled
-        }
         _ => GoalEndStatus::Aborted,
     };
     (status, result)
