@@ -27,6 +27,10 @@ pub enum CommandState {
     Aborted,
     /// Ended with an error (Error + ErrorID). Final.
     Error(ErrorId),
+    /// Ended without Done, CommandAborted or Error: all outputs FALSE (XPlanar external
+    /// set-point generation: "when ESG ends, Busy becomes FALSE without Done", xplanar.md
+    /// §6.1). Final.
+    Ended,
 }
 
 impl CommandState {
@@ -34,7 +38,10 @@ impl CommandState {
     pub fn is_final(self) -> bool {
         matches!(
             self,
-            CommandState::Done | CommandState::Aborted | CommandState::Error(_)
+            CommandState::Done
+                | CommandState::Aborted
+                | CommandState::Error(_)
+                | CommandState::Ended
         )
     }
 }
@@ -67,6 +74,7 @@ impl From<CommandState> for ExecuteOutputs {
             }
             CommandState::Done => o.done = true,
             CommandState::Aborted => o.command_aborted = true,
+            CommandState::Ended => {}
             CommandState::Error(id) => {
                 o.error = true;
                 o.error_id = id

@@ -830,7 +830,7 @@ impl PlanarEngine {
                 m.offset.vel = MoverVector::default();
                 m.offset.acc = MoverVector::default();
                 let e = m.esg.take().unwrap();
-                ev(ev_, e.session, CommandState::Aborted);
+                ev(ev_, e.session, CommandState::Ended);
             }
         }
         Self::plan_stops(m, &dxy, &dc, &da);
@@ -888,7 +888,7 @@ impl PlanarEngine {
                 end(ev_, slot, CommandState::Aborted);
             }
             if let Some(e) = m.esg.take() {
-                ev(ev_, e.session, CommandState::Aborted);
+                ev(ev_, e.session, CommandState::Ended);
                 if let Some(s) = e.stop_cmd {
                     ev(ev_, s, CommandState::Aborted);
                 }
@@ -1071,7 +1071,7 @@ impl PlanarEngine {
             let e = m.esg.take().unwrap();
             m.offset.vel = MoverVector::default();
             m.offset.acc = MoverVector::default();
-            ev(&mut self.pending, e.session, CommandState::Aborted);
+            ev(&mut self.pending, e.session, CommandState::Ended);
             ev(&mut self.pending, id, CommandState::Done);
             return Ok(PlanarReply {
                 id,
@@ -1888,7 +1888,7 @@ impl PlanarEngine {
         if let Some(e) = &m.esg {
             if e.stopping && xy_rest && c_rest && !m.z.moving() && !m.a.moving() && !m.b.moving() {
                 let e = m.esg.take().unwrap();
-                ev(ev_, e.session, CommandState::Aborted);
+                ev(ev_, e.session, CommandState::Ended);
                 if let Some(s) = e.stop_cmd {
                     ev(ev_, s, CommandState::Done);
                 }

@@ -220,7 +220,8 @@ impl AxisEngine {
                 CommandState::Done => AckKind::Done,
                 CommandState::Aborted => AckKind::Aborted,
                 CommandState::Error(id) => AckKind::Error(self.platform_error_id(e.id, id)),
-                CommandState::Busy | CommandState::Active => continue,
+                // The axis engine never ends an instance without an output.
+                CommandState::Busy | CommandState::Active | CommandState::Ended => continue,
             };
             let i = &self.raw.instances[k];
             let (axis, order_id) = (i.axis, i.order_id);
