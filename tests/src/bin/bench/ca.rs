@@ -6,8 +6,28 @@ use motion_core::Engine;
 use std::time::Instant;
 
 pub fn step_cost(counts: &[usize], steps: u64) {
+    for (scene, build) in [
+        (
+            "ring, 300 mm apart",
+            axis_engine::bench_ring as fn(usize) -> _,
+        ),
+        (
+            "dense ring, 150 mm apart",
+            axis_engine::ca::bench::bench_dense_train,
+        ),
+    ] {
+        scene_cost(scene, build, counts, steps);
+    }
+}
+
+fn scene_cost(
+    scene: &str,
+    build: fn(usize) -> axis_engine::AxisEngine,
+    counts: &[usize],
+    steps: u64,
+) {
     for &n in counts {
-        let mut e = axis_engine::bench_ring(n);
+        let mut e = build(n);
         let mut ev = Vec::with_capacity(4 * n);
         let mut tick = 10_000;
         let t0 = Instant::now();
@@ -22,7 +42,7 @@ pub fn step_cost(counts: &[usize], steps: u64) {
         let violations = g.axes.iter().filter(|a| a.gap_violation).count();
         let plain = super::axis_step_seconds(n, steps);
         println!(
-            "CA group step: {n:5} axes on a ring ({moving} moving, {limited} CA-limited, {violations} gap violations): {:7.1} ns per axis per step | plain single-axis step {:5.1} ns (ratio {:.1}) | target <= 200 ns at 1000 axes",
+            "CA group step, {scene}: {n:5} axes ({moving} moving, {limited} CA-limited, {violations} gap violations): {:7.1} ns per axis per step | plain single-axis step {:5.1} ns (ratio {:.1}) | target <= 200 ns at 1000 axes",
             per * 1e9,
             plain * 1e9,
             per / plain

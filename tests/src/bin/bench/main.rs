@@ -64,7 +64,9 @@ fn main() {
             "runtime",
             "roundtrip",
             "axis",
+            "ca",
             "planar",
+            "tracks",
             "pickplace",
             "ruckig",
         ]

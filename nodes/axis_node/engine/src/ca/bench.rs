@@ -99,3 +99,39 @@ pub fn bench_ring(n_axes: usize) -> AxisEngine {
     }
     e
 }
+
+/// A dense ring: `n` movers 150 mm apart (a Standard follower at 1000 mm/s needs about
+/// 200 mm), all moving forward endlessly, so every follower is CA-limited and the planner's
+/// root searches run; stepped 1 s. For timing `step` (benches).
+pub fn bench_dense_train(n_axes: usize) -> AxisEngine {
+    let n = n_axes.max(1);
+    let movers: Vec<(String, f64)> = (0..n)
+        .map(|i| (format!("m{i}"), (n - 1 - i) as f64 * 150.0))
+        .collect();
+    let cfg = CaGroupConfig {
+        rail_length: n as f64 * 150.0 + 1000.0,
+        ..CaGroupConfig::default()
+    };
+    let dt = 0.001;
+    let mut e = match ca_engine(&movers, "g", cfg, dt) {
+        Ok(e) => e,
+        Err(r) => panic!("bench_dense_train setup: {r}"),
+    };
+    for (name, _) in &movers {
+        let r = e.command(AxisCommand::Ca(CaCommand::MoveRelative(MoveRelativeCa {
+            axis: name.clone(),
+            distance: McLreal::Value(1e9),
+            velocity: McLreal::Value(1000.0),
+            ..MoveRelativeCa::default()
+        })));
+        if let Err(r) = r {
+            panic!("bench_dense_train move: {r}");
+        }
+    }
+    let mut ev = Vec::new();
+    for k in 0..1000 {
+        ev.clear();
+        e.step(Tick { index: 2 + k, dt }, &mut ev);
+    }
+    e
+}
