@@ -190,4 +190,25 @@ mod tests {
         assert!(e.message.contains("movers[1].name"), "{e}");
         assert!(check(yaml("movers: [{name: m1}]"), "f").is_ok());
     }
+
+    #[test]
+    fn tracks_and_axes_are_read_from_the_config() {
+        let c = config_from_yaml(
+            yaml("tracks: [{name: loop}, {name: t2, oid: 0x01010301}]\naxes: [{name: v1}]"),
+            0.001,
+            "f",
+        )
+        .unwrap();
+        assert_eq!(c.tracks[1].oid, 0x01010301);
+        assert_eq!(c.axes[0].name, "v1");
+        let e = config_from_yaml(
+            yaml("tracks: [{name: t, geometry: []}]"),
+            0.001,
+            "f: nodes[0]",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("geometry"), "{e}");
+        assert!(e.location.starts_with("f: nodes[0]"), "{e}");
+        assert!(check(yaml("tracks: [{name: t}, {name: t}]"), "f").is_err());
+    }
 }

@@ -258,6 +258,34 @@ fn advanced(
     }
 }
 
+pub(crate) fn append_line_req(r: &TrackAppendLineRequest) -> Decoded {
+    let p = |x, y| PositionXYC::with_ref(x, y, 0.0, r.reference_id);
+    track_cmd(
+        &r.track,
+        "append_line",
+        PlanarCommand::TrackAppendLine {
+            track: r.track.clone(),
+            start: p(r.start_x, r.start_y),
+            end: p(r.end_x, r.end_y),
+        },
+    )
+}
+
+pub(crate) fn append_circle_req(r: &TrackAppendCircleRequest) -> Decoded {
+    let p = |x, y| PositionXYC::with_ref(x, y, 0.0, r.reference_id);
+    track_cmd(
+        &r.track,
+        "append_circle",
+        PlanarCommand::TrackAppendCircle {
+            track: r.track.clone(),
+            start: p(r.start_x, r.start_y),
+            end: p(r.end_x, r.end_y),
+            center: p(r.center_x, r.center_y),
+            clockwise: r.clockwise,
+        },
+    )
+}
+
 /// Registers the track services (mover on-track methods, virtual axes, MC_PlanarTrack).
 pub(crate) fn register_services(shell: &mut NodeShell<PlanarEngine>) -> Result<(), ShellError> {
     // MC_PlanarMover on tracks (§3.2)
@@ -367,37 +395,13 @@ pub(crate) fn register_services(shell: &mut NodeShell<PlanarEngine>) -> Result<(
     shell.command_service(
         "track_append_line",
         TrackAppendLine::service_type_name(),
-        |r: TrackAppendLineRequest| {
-            let p = |x, y| PositionXYC::with_ref(x, y, 0.0, r.reference_id);
-            track_cmd(
-                &r.track,
-                "append_line",
-                PlanarCommand::TrackAppendLine {
-                    track: r.track.clone(),
-                    start: p(r.start_x, r.start_y),
-                    end: p(r.end_x, r.end_y),
-                },
-            )
-        },
+        |r: TrackAppendLineRequest| append_line_req(&r),
         respond::<TrackAppendLineResponse>,
     )?;
     shell.command_service(
         "track_append_circle",
         TrackAppendCircle::service_type_name(),
-        |r: TrackAppendCircleRequest| {
-            let p = |x, y| PositionXYC::with_ref(x, y, 0.0, r.reference_id);
-            track_cmd(
-                &r.track,
-                "append_circle",
-                PlanarCommand::TrackAppendCircle {
-                    track: r.track.clone(),
-                    start: p(r.start_x, r.start_y),
-                    end: p(r.end_x, r.end_y),
-                    center: p(r.center_x, r.center_y),
-                    clockwise: r.clockwise,
-                },
-            )
-        },
+        |r: TrackAppendCircleRequest| append_circle_req(&r),
         respond::<TrackAppendCircleResponse>,
     )?;
     shell.command_service(
@@ -1005,4 +1009,256 @@ pub fn track_markers(paths: &TrackPaths, s: &Stamped<PlanarSnapshot>, h: &Header
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use motion_core::{ErrorId, Tick};
+    use planar_engine::errors::E_TRACK_MODE_CONFLICT;
+
+    /// The loop of the DDS test: two straights joined by half circles (generated
+    /// transitions fill the gaps), three movers (m1, m2 on the bottom straight, m3 inside).
+    pub(crate) const CFG: &str = "movers: [{name: m1, initial_pose: {x: 1000, y: 200}}, {name: m2, initial_pose: {x: 1500, y: 200}}, {name: m3, initial_pose: {x: 1300, y: 500}}]
+tracks: [{name: loop}]
+axes: [{name: v1}]
+";
+
+    struct Sim {
+        e: PlanarEngine,
+        index: u64,
+    }
+
+    impl Sim {
+        fn new() -> Self {
+            let cfg = serde_yaml::from_str(CFG).unwrap();
+            Sim {
+                e: PlanarEngine::new(cfg).unwrap(),
+                index: 0,
+            }
+        }
+        fn run(&mut self, cycles: u64) {
+            let mut ev = Vec::new();
+            for _ in 0..cycles {
+                self.e.step(
+                    Tick {
+                        index: self.index,
+                        dt: 0.001,
+                    },
+                    &mut ev,
+                );
+                self.index += 1;
+                ev.clear();
+            }
+        }
+        fn cmd(&mut self, d: Decoded) -> Outcome {
+            let (c, _) = d?;
+            self.e.command(c)
+        }
+        fn snap(&self) -> PlanarSnapshot {
+            self.e.snapshot()
+        }
+    }
+
+    fn line(sx: f64, sy: f64, ex: f64, ey: f64) -> TrackAppendLineRequest {
+        TrackAppendLineRequest {
+            track: "loop".into(),
+            start_x: sx,
+            start_y: sy,
+            end_x: ex,
+            end_y: ey,
+            reference_id: 0,
+        }
+    }
+
+    fn circle(s: (f64, f64), e: (f64, f64), c: (f64, f64)) -> TrackAppendCircleRequest {
+        TrackAppendCircleRequest {
+            track: "loop".into(),
+            start_x: s.0,
+            start_y: s.1,
+            end_x: e.0,
+            end_y: e.1,
+            center_x: c.0,
+            center_y: c.1,
+            clockwise: false,
+            reference_id: 0,
+        }
+    }
+
+    fn join(mover: &str) -> MoverJoinTrackRequest {
+        MoverJoinTrackRequest {
+            mover: mover.into(),
+            track: "loop".into(),
+            use_orientation: true,
+            ..Default::default()
+        }
+    }
+
+    fn move_on(mover: &str, target: f64, velocity: f64, gap: f64) -> MoverMoveOnTrackRequest {
+        MoverMoveOnTrackRequest {
+            mover: mover.into(),
+            target_position: target,
+            velocity,
+            gap,
+            ..Default::default()
+        }
+    }
+
+    fn on_track(s: &PlanarSnapshot, m: &str) -> planar_engine::OnTrackSnapshot {
+        s.mover(m).unwrap().on_track.clone().expect("on track")
+    }
+
+    #[test]
+    fn loop_join_and_gap_through_the_decoders() {
+        let mut s = Sim::new();
+        s.cmd(append_line_req(&line(800.0, 200.0, 1800.0, 200.0)))
+            .unwrap();
+        s.cmd(append_circle_req(&circle(
+            (2100.0, 200.0),
+            (2100.0, 800.0),
+            (2100.0, 500.0),
+        )))
+        .unwrap();
+        s.cmd(append_line_req(&line(1800.0, 800.0, 800.0, 800.0)))
+            .unwrap();
+        s.cmd(append_circle_req(&circle(
+            (500.0, 800.0),
+            (500.0, 200.0),
+            (500.0, 500.0),
+        )))
+        .unwrap();
+        for c in [
+            PlanarCommand::TrackCloseLoop {
+                track: "loop".into(),
+            },
+            PlanarCommand::TrackEnable {
+                track: "loop".into(),
+            },
+        ] {
+            s.e.command(c).unwrap();
+        }
+        for m in ["m1", "m2", "m3"] {
+            s.e.command(PlanarCommand::MoverEnable { mover: m.into() })
+                .unwrap();
+        }
+        s.run(300);
+        let snap = s.snap();
+        let t = track_state(&snap.tracks[0]);
+        assert!(t.closed_loop);
+        let arcs = 2.0 * std::f64::consts::PI * 300.0;
+        assert!(t.length > 2000.0 + arcs, "{}", t.length);
+        let l = match s
+            .e
+            .command(PlanarCommand::TrackGetLength {
+                track: "loop".into(),
+            })
+            .unwrap()
+            .value
+        {
+            ReplyValue::Scalar(v) => v,
+            v => panic!("{v:?}"),
+        };
+        assert_eq!(l, t.length);
+
+        s.cmd(join_track_req(&join("m1"))).unwrap();
+        s.cmd(join_track_req(&join("m2"))).unwrap();
+        s.run(3000);
+        let snap = s.snap();
+        assert_eq!(snap.tracks[0].operation_mode, TrackOperationMode::Standing);
+        let (p1, p2) = (on_track(&snap, "m1").set_pos, on_track(&snap, "m2").set_pos);
+        assert!(
+            (p1 - 200.0).abs() < 1.0 && (p2 - 700.0).abs() < 1.0,
+            "{p1} {p2}"
+        );
+        let m = mover_state_of(&snap, "m1");
+        assert_eq!(m.track, "loop");
+        assert_eq!(m.command_mode, PlanarMoverState::MODE_ON_TRACK);
+
+        // The follower into the leader: held back at the gap.
+        s.cmd(move_on_track_req(&move_on("m1", 1200.0, 500.0, 300.0)))
+            .unwrap();
+        s.run(3000);
+        let snap = s.snap();
+        let f = on_track(&snap, "m1");
+        assert!(f.waiting, "{f:?}");
+        assert_eq!(f.gap, 300.0);
+        assert!((on_track(&snap, "m2").set_pos - f.set_pos - 300.0).abs() < 1.0);
+        // Moving: a join is refused.
+        assert_eq!(snap.tracks[0].operation_mode, TrackOperationMode::Moving);
+        let e = s.cmd(join_track_req(&join("m3"))).unwrap_err();
+        assert_eq!(e.error_id, E_TRACK_MODE_CONFLICT, "{}", e.message);
+        // Bad requests: enum, NaN, unknown track.
+        let bad = MoverMoveOnTrackRequest {
+            direction: 7,
+            ..move_on("m1", 1.0, 0.0, 200.0)
+        };
+        assert_eq!(
+            move_on_track_req(&bad).unwrap_err().error_id,
+            ErrorId::ENUM_OUT_OF_RANGE
+        );
+        let e = s
+            .cmd(move_on_track_req(&move_on("m1", f64::NAN, 0.0, 200.0)))
+            .unwrap_err();
+        assert_eq!(e.error_id, ErrorId::NOT_FINITE);
+        let e = s
+            .cmd(join_track_req(&MoverJoinTrackRequest {
+                track: "nope".into(),
+                ..join("m3")
+            }))
+            .unwrap_err();
+        assert_eq!(e.error_id, ErrorId::UNKNOWN_OBJECT);
+        assert_eq!(
+            sync_directions("m1", 0).unwrap_err().error_id,
+            ErrorId::ENUM_OUT_OF_RANGE
+        );
+    }
+
+    fn mover_state_of(s: &PlanarSnapshot, m: &str) -> PlanarMoverState {
+        crate::convert::mover_state(s.mover(m).unwrap())
+    }
+
+    #[test]
+    fn markers_draw_sampled_paths_by_mode() {
+        let mut s = Sim::new();
+        s.cmd(append_line_req(&line(800.0, 200.0, 1800.0, 200.0)))
+            .unwrap();
+        let snap = Stamped {
+            cycle: 0,
+            sim_time: 0.0,
+            state: s.snap(),
+        };
+        let paths = TrackPaths::default();
+        let h = Header::default();
+        // Not sampled yet: DELETE.
+        assert_eq!(track_markers(&paths, &snap, &h)[0].action, Marker::DELETE);
+        let key = PathKey::of(&snap.state, &snap.state.tracks[0]);
+        assert!(paths.stale("loop", &key));
+        paths.set("loop", key.clone(), vec![[800.0, 200.0], [1800.0, 200.0]]);
+        assert!(!paths.stale("loop", &key));
+        let m = &track_markers(&paths, &snap, &h)[0];
+        assert_eq!((m.ns.as_str(), m.r#type), ("tracks", Marker::LINE_STRIP));
+        assert_eq!(m.action, Marker::ADD);
+        assert!((m.points[1].x - 1.8).abs() < 1e-12);
+        assert_eq!(sample_count(1000.0), 50);
+        assert_eq!(sample_count(1.0), 16);
+        assert_eq!(sample_count(1e6), 256);
+    }
+
+    #[test]
+    fn axes_and_tracks_are_in_the_state_message() {
+        let s = Sim::new();
+        let m = crate::convert::planar_state(&Stamped {
+            cycle: 0,
+            sim_time: 0.0,
+            state: s.snap(),
+        });
+        assert_eq!(m.tracks[0].name, "loop");
+        assert_eq!(
+            m.tracks[0].operation_mode,
+            PlanarTrackState::MODE_UNINITIALIZED
+        );
+        assert_eq!(m.axes[0].name, "v1");
+        assert!(!m.axes[0].powered);
+        assert_eq!(m.movers[0].track, "");
+    }
 }
