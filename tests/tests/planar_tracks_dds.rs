@@ -309,7 +309,8 @@ async fn scenario(mapping: ServiceMapping) {
     let (gid, resp) = send_goal(&move_ac, "move m1", goal).await;
     assert!(resp.accepted);
     let s = wait_state(&states, 30.0, "m1 waiting at the gap", |s| {
-        mover(s, "m1").waiting
+        let m1 = mover(s, "m1");
+        m1.waiting && m1.track_velocity == 0.0 && m1.track_acceleration == 0.0
     })
     .await;
     let (m1, m2) = (mover(&s, "m1"), mover(&s, "m2"));
