@@ -4,11 +4,13 @@
 //! action runs into the leader and is held at the gap (seen on `~/state`); a join while the
 //! track is Moving is refused with E_TRACK_MODE_CONFLICT; `~/track_get_length`,
 //! `~/track_get_position_at`; bad requests (unknown track, NaN, enum); the track drawn in
-//! `~/markers`. With both request/reply mappings.
+//! `~/markers`; a gear-in on a master mover as an action (in_sync feedback, cancel). With both request/reply mappings.
 
 use motion_msgs::action::{
-    self as act, MoverJoinTrackFeedback, MoverJoinTrackGoal, MoverJoinTrackResult,
-    MoverMoveOnTrackFeedback, MoverMoveOnTrackGoal, MoverMoveOnTrackResult,
+    self as act, MoverGearInPosOnTrackWithMasterMoverFeedback,
+    MoverGearInPosOnTrackWithMasterMoverGoal, MoverGearInPosOnTrackWithMasterMoverResult,
+    MoverJoinTrackFeedback, MoverJoinTrackGoal, MoverJoinTrackResult, MoverMoveOnTrackFeedback,
+    MoverMoveOnTrackGoal, MoverMoveOnTrackResult,
 };
 use motion_msgs::deps::visualization_msgs::msg::{Marker, MarkerArray};
 use motion_msgs::msg::{PlanarMoverState, PlanarState, PlanarTrackState};
@@ -371,6 +373,72 @@ async fn scenario(mapping: ServiceMapping) {
     .await;
     assert!((mover(&s, "m2").track_position - 1700.0).abs() < 0.1);
     assert!(!mover(&s, "m1").waiting);
+
+    // Gear-in on the master mover m2 (§5.8): synchronous at once (m1 is 500 mm behind,
+    // as the sync positions say); m1 follows m2's move; the goal never succeeds on its own,
+    // cancel = m1's Halt ends it CANCELED.
+    let gear_ac = c
+        .action::<
+            MoverGearInPosOnTrackWithMasterMoverGoal,
+            MoverGearInPosOnTrackWithMasterMoverResult,
+            MoverGearInPosOnTrackWithMasterMoverFeedback,
+        >(
+            "/planar_node/mover_gear_in_pos_on_track_with_master_mover",
+            &act::MoverGearInPosOnTrackWithMasterMover::action_type_name(),
+        )
+        .await;
+    let goal = MoverGearInPosOnTrackWithMasterMoverGoal {
+        mover: "m1".into(),
+        master_mover: "m2".into(),
+        master_sync_position: 1700.0,
+        master_sync_position_track: "loop".into(),
+        slave_sync_position: 1200.0,
+        slave_sync_position_track: "loop".into(),
+        gap: 200.0,
+        allowed_slave_sync_directions: 1,
+        ..Default::default()
+    };
+    let (gid, resp) = send_goal(&gear_ac, "gear m1", goal).await;
+    assert!(resp.accepted);
+    within(20.0, "in_sync feedback", async {
+        use futures::StreamExt;
+        let fb = gear_ac.feedback_stream(gid);
+        futures::pin_mut!(fb);
+        loop {
+            let f = fb.next().await.expect("feedback").expect("feedback");
+            if f.in_sync {
+                assert!(f.busy && f.active, "{f:?}");
+                assert_eq!(f.track, "loop");
+                return;
+            }
+        }
+    })
+    .await;
+    let r = call!(mv, "move master m2", mreq("m2", 2000.0));
+    assert!(r.accepted, "{}", r.message);
+    let s = wait_state(&states, 30.0, "m1 geared, m2 at 2000", |s| {
+        (mover(s, "m2").track_position - 2000.0).abs() < 1e-6 && mover(s, "m1").in_sync
+    })
+    .await;
+    assert_eq!(mover(&s, "m1").gear_master, "m2");
+    assert!(
+        (mover(&s, "m1").track_position - 1500.0).abs() < 0.1,
+        "{}",
+        mover(&s, "m1").track_position
+    );
+    let cr = within(
+        10.0,
+        "cancel gear",
+        gear_ac.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
+    assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
+    let (status, result) = within(20.0, "gear result", gear_ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
+    assert!(result.command_aborted && !result.done, "{result:?}");
 
     // ~/markers: the loop as a LINE_STRIP (metres), starting at the first line's start.
     let markers = c.subscribe::<MarkerArray>("/planar_node/markers", MarkerArray::type_name());
