@@ -675,6 +675,8 @@ macro_rules! track_action {
                 $decode(g)
             }
 
+            // (`..Default::default()` fills `in_sync` of the gear-in feedback.)
+            #[allow(clippy::needless_update)]
             fn feedback(
                 &self,
                 g: &$goal,
@@ -871,7 +873,10 @@ impl PathKey {
 /// Sampled track paths \[mm\] by track name, kept by [`spawn_sampler`] and drawn by
 /// [`track_markers`].
 #[derive(Clone, Debug, Default)]
-pub struct TrackPaths(Arc<Mutex<HashMap<String, (PathKey, Vec<[f64; 2]>)>>>);
+pub struct TrackPaths(Arc<Mutex<PathMap>>);
+
+/// Track name -> (what the path was sampled for, points \[mm\]).
+type PathMap = HashMap<String, (PathKey, Vec<[f64; 2]>)>;
 
 impl TrackPaths {
     /// The sampled path of a track, if any.
