@@ -896,6 +896,9 @@ impl TrackPaths {
     }
 }
 
+/// GetPositionAt queries in flight at once while sampling a track.
+const SAMPLE_CHUNK: usize = 32;
+
 /// Samples per track: about every 20 mm, 16..=256.
 fn sample_count(length: f64) -> usize {
     ((length / 20.0).ceil() as usize).clamp(16, 256)
@@ -918,13 +921,18 @@ pub(crate) fn spawn_sampler(shell: &NodeShell<PlanarEngine>, paths: TrackPaths) 
                 }
                 let path = if t.length > 0.0 {
                     let n = sample_count(t.length);
-                    let calls = (0..=n).map(|k| {
-                        handle.call(PlanarCommand::TrackGetPositionAt {
-                            track: t.name.clone(),
-                            arc_length: t.length * k as f64 / n as f64,
-                        })
-                    });
-                    let replies = futures::future::join_all(calls).await;
+                    let mut replies = Vec::with_capacity(n + 1);
+                    // In chunks: the queries share the command queue with the clients'
+                    // commands (a full queue would refuse those with 0x7F04).
+                    for chunk in (0..=n).collect::<Vec<_>>().chunks(SAMPLE_CHUNK) {
+                        let calls = chunk.iter().map(|&k| {
+                            handle.call(PlanarCommand::TrackGetPositionAt {
+                                track: t.name.clone(),
+                                arc_length: t.length * k as f64 / n as f64,
+                            })
+                        });
+                        replies.extend(futures::future::join_all(calls).await);
+                    }
                     let pts: Option<Vec<[f64; 2]>> = replies
                         .into_iter()
                         .map(|r| match r {
