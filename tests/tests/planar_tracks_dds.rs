@@ -4,13 +4,14 @@
 //! action runs into the leader and is held at the gap (seen on `~/state`); a join while the
 //! track is Moving is refused with E_TRACK_MODE_CONFLICT; `~/track_get_length`,
 //! `~/track_get_position_at`; bad requests (unknown track, NaN, enum); the track drawn in
-//! `~/markers`; a gear-in on a master mover as an action (in_sync feedback, cancel). With both request/reply mappings.
+//! `~/markers`; LeaveTrack as an action; a virtual axis powered; a gear-in on a master mover as an action (in_sync feedback, cancel). With both request/reply mappings.
 
 use motion_msgs::action::{
     self as act, MoverGearInPosOnTrackWithMasterMoverFeedback,
     MoverGearInPosOnTrackWithMasterMoverGoal, MoverGearInPosOnTrackWithMasterMoverResult,
-    MoverJoinTrackFeedback, MoverJoinTrackGoal, MoverJoinTrackResult, MoverMoveOnTrackFeedback,
-    MoverMoveOnTrackGoal, MoverMoveOnTrackResult,
+    MoverJoinTrackFeedback, MoverJoinTrackGoal, MoverJoinTrackResult, MoverLeaveTrackFeedback,
+    MoverLeaveTrackGoal, MoverLeaveTrackResult, MoverMoveOnTrackFeedback, MoverMoveOnTrackGoal,
+    MoverMoveOnTrackResult,
 };
 use motion_msgs::deps::visualization_msgs::msg::{Marker, MarkerArray};
 use motion_msgs::msg::{PlanarMoverState, PlanarState, PlanarTrackState};
@@ -28,6 +29,7 @@ movers:
   - {name: m2, initial_pose: {x: 1500, y: 200}}
   - {name: m3, initial_pose: {x: 1300, y: 500}}
 tracks: [{name: loop}]
+axes: [{name: v1}]
 ";
 
 fn start_node(domain: u16, mapping: ServiceMapping) -> PlanarNode {
@@ -464,6 +466,69 @@ async fn scenario(mapping: ServiceMapping) {
     );
     let last = m.points.last().unwrap();
     assert!((last.x - 0.8).abs() < 1e-6 && (last.y - 0.2).abs() < 1e-6);
+
+    // m1 leaves the loop by action to a free target (the track is Standing again).
+    wait_state(&states, 30.0, "Standing after the cancel", |s| {
+        s.tracks[0].operation_mode == PlanarTrackState::MODE_STANDING
+    })
+    .await;
+    let leave_ac = c
+        .action::<MoverLeaveTrackGoal, MoverLeaveTrackResult, MoverLeaveTrackFeedback>(
+            "/planar_node/mover_leave_track",
+            &act::MoverLeaveTrack::action_type_name(),
+        )
+        .await;
+    let goal = MoverLeaveTrackGoal {
+        mover: "m1".into(),
+        x: 1700.0,
+        y: 500.0,
+        c: 0.0,
+        use_orientation: true,
+        ..Default::default()
+    };
+    let (gid, resp) = send_goal(&leave_ac, "leave m1", goal).await;
+    assert!(resp.accepted);
+    let (status, result) = within(30.0, "leave result", leave_ac.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert_eq!(result.track, "");
+    assert!(
+        (result.x - 1700.0).abs() < 0.1 && (result.y - 500.0).abs() < 0.1,
+        "{result:?}"
+    );
+    let s = wait_state(&states, 20.0, "m1 free", |s| {
+        mover(s, "m1").command_mode == PlanarMoverState::MODE_FREE_MOVEMENT
+    })
+    .await;
+    assert_eq!(s.tracks[0].movers, ["m2"]);
+
+    // Virtual master axes: power, unknown axis.
+    let power = c
+        .client::<AxisPowerRequest, AxisPowerResponse>(
+            "/planar_node/axis_power",
+            AxisPower::service_type_name(),
+        )
+        .await;
+    let r = call!(
+        power,
+        "axis power",
+        AxisPowerRequest {
+            axis: "v1".into(),
+            enable: true
+        }
+    );
+    assert!(r.accepted, "{}", r.message);
+    let r = call!(
+        power,
+        "axis power unknown",
+        AxisPowerRequest {
+            axis: "nope".into(),
+            enable: true
+        }
+    );
+    assert_eq!((r.accepted, r.error_id), (false, 0x7F01), "{}", r.message);
+    wait_state(&states, 20.0, "v1 powered", |s| s.axes[0].powered).await;
 
     drop(c);
     node.stop().await;
