@@ -12,7 +12,7 @@ use planar_engine::{MoverVector, PlanarCommand, PlanarEngine, PlanarSnapshot};
 use ros2_client::ActionTypeName;
 
 /// The mover's pose (x, y, z [mm], a, b, c [deg]); zeros for an unknown mover.
-fn pose(snap: &Stamped<PlanarSnapshot>, mover: &str) -> MoverVector {
+pub(crate) fn pose(snap: &Stamped<PlanarSnapshot>, mover: &str) -> MoverVector {
     snap.state
         .mover(mover)
         .map(|m| m.set_pos)
@@ -21,7 +21,7 @@ fn pose(snap: &Stamped<PlanarSnapshot>, mover: &str) -> MoverVector {
 
 /// objectInfo of an E_COLLISION end (§6.1): from the rejection at the edge, or the mover's
 /// own record of its guard stop; (0, 0) otherwise.
-fn object_info(
+pub(crate) fn object_info(
     snap: &Stamped<PlanarSnapshot>,
     mover: &str,
     error_id: ErrorId,

@@ -37,6 +37,8 @@ pub struct Geometry {
     pub mover_sizes: Vec<(f64, f64)>,
     /// Part-local lower-left tile corners \[mm\] per part, configuration order.
     pub part_tiles: Vec<Vec<[f64; 2]>>,
+    /// Sampled track paths (kept up to date by the node, xplanar.md §5.4).
+    pub track_paths: crate::tracks::TrackPaths,
 }
 
 impl Geometry {
@@ -45,6 +47,7 @@ impl Geometry {
         Geometry {
             mover_sizes: cfg.movers.iter().map(|m| (m.width, m.height)).collect(),
             part_tiles: cfg.parts.iter().map(|p| p.tiles.clone()).collect(),
+            track_paths: Default::default(),
         }
     }
 
@@ -68,7 +71,7 @@ impl Geometry {
 
 /// One mover as `motion_msgs/PlanarMoverState`.
 pub fn mover_state(m: &MoverSnapshot) -> PlanarMoverState {
-    PlanarMoverState {
+    let mut out = PlanarMoverState {
         name: m.name.clone(),
         oid: m.oid,
         state: m.state as u8,
@@ -101,7 +104,10 @@ pub fn mover_state(m: &MoverSnapshot) -> PlanarMoverState {
         velocity_a: m.set_velo.a,
         velocity_b: m.set_velo.b,
         velocity_c: m.set_velo.c,
-    }
+        ..Default::default()
+    };
+    crate::tracks::set_on_track(m, &mut out);
+    out
 }
 
 /// The whole snapshot as `motion_msgs/PlanarState`.
@@ -128,6 +134,7 @@ pub fn planar_state(s: &Stamped<PlanarSnapshot>) -> PlanarState {
                 state: g.state as u8,
                 movers: g.movers.clone(),
                 environment_member: g.environment_member,
+                tracks: g.tracks.clone(),
             })
             .collect(),
         parts: st
@@ -146,6 +153,8 @@ pub fn planar_state(s: &Stamped<PlanarSnapshot>) -> PlanarState {
                 moving: p.moving,
             })
             .collect(),
+        tracks: st.tracks.iter().map(crate::tracks::track_state).collect(),
+        axes: st.axes.iter().map(crate::tracks::axis_state).collect(),
     }
 }
 
@@ -258,12 +267,12 @@ fn boundary_lines(tiles: &[[f64; 2]], z: f64) -> Vec<Point> {
 
 /// The machine for RViz: stators as flat tiles (ns `stators`), the outer boundary (ns
 /// `boundary`: orange while the environment is in a group, i.e. boundary checks are on,
-/// grey otherwise), each mover as a box of its configured size coloured by its state (ns
+/// grey otherwise), the tracks (ns `tracks`, [`crate::tracks::track_markers`]), each mover as a box of its configured size coloured by its state (ns
 /// `movers`, id = configuration index) with its name above it (ns `mover_names`).
 pub fn markers(geometry: &Geometry, s: &Stamped<PlanarSnapshot>) -> MarkerArray {
     let h = header(stamp_from_secs(s.sim_time));
     let tiles = geometry.stators(&s.state);
-    let mut out = Vec::with_capacity(2 + 2 * s.state.movers.len());
+    let mut out = Vec::with_capacity(2 + 2 * s.state.movers.len() + s.state.tracks.len());
     let action = |empty: bool| if empty { Marker::DELETE } else { Marker::ADD };
     out.push(Marker {
         header: h.clone(),
@@ -311,6 +320,7 @@ pub fn markers(geometry: &Geometry, s: &Stamped<PlanarSnapshot>) -> MarkerArray 
         points: lines,
         ..Default::default()
     });
+    out.extend(crate::tracks::track_markers(&geometry.track_paths, s, &h));
     for (i, m) in s.state.movers.iter().enumerate() {
         let (w, hgt) = geometry
             .mover_sizes

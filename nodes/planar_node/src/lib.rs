@@ -5,7 +5,11 @@
 //! - services, one per method of MC_PlanarEnvironment / Mover / Group / Part (§3.1–§3.5),
 //!   named `~/<object>_<method>` in snake_case (`~/mover_move_to_position`,
 //!   `~/group_enable`, `~/part_activate_position`, ...), plus `~/sim/inject_error` (§6.2);
-//! - actions `~/mover_move_to_position`, `~/mover_move_z|a|b|c` (cancel = the mover's Halt);
+//!   tracks (§3.3), on-track mover methods and virtual master axes are in `tracks`
+//!   (`~/track_append_line`, `~/mover_join_track`, `~/axis_power`, ...);
+//! - actions `~/mover_move_to_position`, `~/mover_move_z|a|b|c`, `~/mover_join_track`,
+//!   `~/mover_leave_track`, `~/mover_move_on_track`,
+//!   `~/mover_gear_in_pos_on_track_with_master_mover` (cancel = the mover's Halt);
 //! - topics `~/state` (motion_msgs/PlanarState), `~/mover_poses` (geometry_msgs/PoseArray)
 //!   and `~/markers` (visualization_msgs/MarkerArray), both in frame `planar_env` in metres,
 //!   plus the common `~/command_status` and `/diagnostics`.
@@ -13,8 +17,10 @@
 mod actions;
 mod convert;
 mod services;
+mod tracks;
 
 pub use convert::{mover_poses, planar_state, Geometry, FRAME_ID};
+pub use tracks::{axis_state, set_on_track, track_markers, track_state, TrackPaths};
 
 use motion_runtime::host::{from_value, CommonConfig, ConfigError};
 use motion_runtime::launch::{RunningNode, StartError};
@@ -37,7 +43,9 @@ pub const NODE_KIND: NodeKind = NodeKind {
 pub type PlanarNode = NodeHost<PlanarEngine>;
 
 /// Reads the engine part of a `planar_node` entry (xplanar.md §1.12: `coordinate_systems`,
-/// `parts`, `environment`, `movers`, `groups`, state-transition times). The engine's
+/// `parts`, `environment`, `movers`, `groups`, `tracks` (`{name, oid, part_oid}`; the
+/// geometry comes from the `~/track_*` services), `axes` (virtual master axes `{name, oid}`),
+/// state-transition times). The engine's
 /// `cycle_time` is the node's `cycle_period`: it may be left out, and if given must match.
 pub fn config_from_yaml(
     v: serde_yaml::Value,
@@ -106,6 +114,14 @@ pub fn start(
             names(cfg.parts.iter().map(|p| p.name.clone()).collect()),
         ),
         (
+            "tracks".to_string(),
+            names(cfg.tracks.iter().map(|t| t.name.clone()).collect()),
+        ),
+        (
+            "axes".to_string(),
+            names(cfg.axes.iter().map(|a| a.name.clone()).collect()),
+        ),
+        (
             "environment".to_string(),
             ParameterValue::String(cfg.environment.name.clone()),
         ),
@@ -137,7 +153,10 @@ fn setup(
     geometry: Arc<Geometry>,
 ) -> Result<(), ShellError> {
     services::register(shell, env_name)?;
+    tracks::register_services(shell)?;
     actions::register(shell)?;
+    tracks::register_actions(shell)?;
+    tracks::spawn_sampler(shell, geometry.track_paths.clone());
     convert::register_topics(shell, geometry)?;
     Ok(())
 }
@@ -170,5 +189,26 @@ mod tests {
         let e = check(yaml("movers: [{name: m1}, {name: m1}]"), "f: nodes[0]").unwrap_err();
         assert!(e.message.contains("movers[1].name"), "{e}");
         assert!(check(yaml("movers: [{name: m1}]"), "f").is_ok());
+    }
+
+    #[test]
+    fn tracks_and_axes_are_read_from_the_config() {
+        let c = config_from_yaml(
+            yaml("tracks: [{name: loop}, {name: t2, oid: 0x01010301}]\naxes: [{name: v1}]"),
+            0.001,
+            "f",
+        )
+        .unwrap();
+        assert_eq!(c.tracks[1].oid, 0x01010301);
+        assert_eq!(c.axes[0].name, "v1");
+        let e = config_from_yaml(
+            yaml("tracks: [{name: t, geometry: []}]"),
+            0.001,
+            "f: nodes[0]",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("geometry"), "{e}");
+        assert!(e.location.starts_with("f: nodes[0]"), "{e}");
+        assert!(check(yaml("tracks: [{name: t}, {name: t}]"), "f").is_err());
     }
 }

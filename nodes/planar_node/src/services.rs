@@ -17,13 +17,13 @@ use planar_engine::{
 pub(crate) type Outcome = Result<PlanarReply, Rejection>;
 
 /// The answer of a command service (accepted with the command id, or rejected).
-fn respond<R: CommandResponse>(o: Outcome) -> R {
+pub(crate) fn respond<R: CommandResponse>(o: Outcome) -> R {
     motion_runtime::shell::respond(&o, |r| r.id)
 }
 
 /// Responses of the motion services also carry the command's warning (W_DYNAMICS_REDUCED)
 /// and, for E_COLLISION, objectInfo: the blocking object (§6.1).
-trait MotionResponse {
+pub(crate) trait MotionResponse {
     fn set_warning(&mut self, warning_id: u32);
     fn set_object(&mut self, object_type: u16, object_id: u32);
 }
@@ -53,7 +53,7 @@ motion_response!(
 
 /// [`respond`] plus the warning id of an accepted motion command, or the objectInfo of a
 /// rejected one.
-fn respond_motion<R: CommandResponse + MotionResponse>(o: Outcome) -> R {
+pub(crate) fn respond_motion<R: CommandResponse + MotionResponse>(o: Outcome) -> R {
     let warning = o.as_ref().map(|r| r.warning_id.0).unwrap_or(0);
     let object = o.as_ref().err().and_then(|e| e.object);
     let mut r: R = respond(o);
@@ -71,7 +71,7 @@ pub(crate) fn label(object: &str, command: &str) -> CommandLabel {
     }
 }
 
-fn enum_error(object: &str, field: &str, value: u32, allowed: &str) -> Rejection {
+pub(crate) fn enum_error(object: &str, field: &str, value: u32, allowed: &str) -> Rejection {
     Rejection::new(
         ErrorId::ENUM_OUT_OF_RANGE,
         format!("{object}: {field} = {value} is out of range ({allowed})"),
@@ -235,13 +235,16 @@ decode_aux!(
 decode_move_c!(move_c_req, MoverMoveCRequest);
 decode_move_c!(move_c_goal, motion_msgs::action::MoverMoveCGoal);
 
-type Decoded = Result<(PlanarCommand, CommandLabel), Rejection>;
+pub(crate) type Decoded = Result<(PlanarCommand, CommandLabel), Rejection>;
 
 fn mover_cmd(mover: &str, command: &str, cmd: PlanarCommand) -> Decoded {
     Ok((cmd, label(mover, command)))
 }
 
-fn position_response<R: CommandResponse>(o: Outcome, set: impl FnOnce(&mut R, PositionXYC)) -> R {
+pub(crate) fn position_response<R: CommandResponse>(
+    o: Outcome,
+    set: impl FnOnce(&mut R, PositionXYC),
+) -> R {
     let p = match &o {
         Ok(PlanarReply {
             value: ReplyValue::Position(p),
@@ -256,7 +259,7 @@ fn position_response<R: CommandResponse>(o: Outcome, set: impl FnOnce(&mut R, Po
     r
 }
 
-fn object_info(o: &Outcome) -> Option<(u16, u32)> {
+pub(crate) fn object_info(o: &Outcome) -> Option<(u16, u32)> {
     match o {
         Ok(PlanarReply {
             value: ReplyValue::ObjectInfo(i),
