@@ -9,15 +9,19 @@
 //! - actions for the motions that end (`actions`): Done, or the FB's Done-type output
 //!   (InVelocity, InEndVelocity, InTorque, InGear); cancel = MC_Halt;
 //! - topics `~/axis_states` (motion_msgs/AxisStateArray), `joint_states`
-//!   (sensor_msgs/JointState), `~/command_status`, `/diagnostics`.
+//!   (sensor_msgs/JointState), `~/command_status`, `/diagnostics`;
+//! - collision-avoidance groups (`ca`, launch key `ca_groups`): services, actions and the
+//!   state topic under `~/ca/<group>/`.
 
 mod actions;
+mod ca;
 mod convert;
 mod fbs;
 mod jog;
 mod reads;
 mod services;
 
+use axis_engine::ca::CaGroupConfig;
 use axis_engine::{AxisConfig, AxisEngine};
 use motion_runtime::host::{from_value, CommonConfig, ConfigError};
 use motion_runtime::launch::{RunningNode, StartError};
@@ -49,10 +53,20 @@ fn parse(
 }
 
 fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
-    AxisEngine::new(cfg.axes).map_err(|r| ConfigError {
+    let mut engine = AxisEngine::new(cfg.axes).map_err(|r| ConfigError {
         location: format!("{location}.axes"),
         message: r.message,
-    })
+    })?;
+    // Collision-avoidance groups (collision_avoidance.md §3.1): validated by the engine.
+    for (name, c) in cfg.ca_groups {
+        engine
+            .add_ca_group(name.clone(), c)
+            .map_err(|r| ConfigError {
+                location: format!("{location}.ca_groups.{name}"),
+                message: r.message,
+            })?;
+    }
+    Ok(engine)
 }
 
 /// The engine part of an `axis_node` entry of a launch config.
@@ -60,6 +74,8 @@ fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError>
 pub struct AxisNodeConfig {
     /// Axes in configuration order: name and parameters (single_axis.md §1.2 defaults).
     pub axes: Vec<(String, AxisConfig)>,
+    /// Collision-avoidance groups in configuration order: name and §3.1 parameters.
+    pub ca_groups: Vec<(String, CaGroupConfig)>,
 }
 
 impl AxisNodeConfig {
@@ -75,8 +91,10 @@ impl AxisNodeConfig {
             _ => return Err(bad("", "expected a mapping")),
         };
         let mut axes = Vec::new();
+        let mut ca_groups = Vec::new();
         for (k, val) in map {
             match k.as_str() {
+                Some("ca_groups") => ca_groups = ca_groups_from_yaml(&val, location)?,
                 Some("axes") => {
                     let m = val
                         .as_mapping()
@@ -94,15 +112,44 @@ impl AxisNodeConfig {
                         axes.push((name.to_string(), c));
                     }
                 }
-                Some(other) => return Err(bad(other, "unknown key (axis_node takes: axes)")),
+                Some(other) => return Err(bad(other, "unknown key (axis_node takes: axes, ca_groups)")),
                 None => return Err(bad("?", "keys must be strings")),
             }
         }
         if axes.is_empty() {
             return Err(bad("axes", "no axis configured"));
         }
-        Ok(AxisNodeConfig { axes })
+        Ok(AxisNodeConfig { axes, ca_groups })
     }
+}
+
+/// Reads `ca_groups: { <name>: { <CaGroupConfig field>: value, ... }, ... }` (order kept;
+/// an empty entry takes the §3.1 defaults).
+fn ca_groups_from_yaml(
+    v: &serde_yaml::Value,
+    location: &str,
+) -> Result<Vec<(String, CaGroupConfig)>, ConfigError> {
+    let bad = |msg: &str| ConfigError {
+        location: format!("{location}.ca_groups"),
+        message: msg.into(),
+    };
+    let m = v
+        .as_mapping()
+        .ok_or_else(|| bad("expected a mapping of CA group names"))?;
+    let mut groups = Vec::new();
+    for (name, cfg) in m {
+        let name = name
+            .as_str()
+            .ok_or_else(|| bad("CA group names must be strings"))?;
+        let cfg = if cfg.is_null() {
+            serde_yaml::Value::Mapping(Default::default())
+        } else {
+            cfg.clone()
+        };
+        let c: CaGroupConfig = from_value(cfg, &format!("{location}.ca_groups.{name}"))?;
+        groups.push((name.to_string(), c));
+    }
+    Ok(groups)
 }
 
 /// A running axis node.
@@ -120,11 +167,13 @@ pub fn start(
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
     }
+    let ca_names: Vec<String> = cfg.ca_groups.iter().map(|(n, _)| n.clone()).collect();
     let engine = build(cfg, location)?;
-    let params = vec![(
+    let mut params = vec![(
         "axes".to_string(),
         ParameterValue::StringArray(names.clone()),
     )];
+    params.push(("ca_groups".to_string(), ParameterValue::StringArray(ca_names)));
     Ok(NodeHost::start(
         KIND,
         common,
@@ -149,6 +198,7 @@ fn setup(shell: &mut NodeShell<AxisEngine>, names: Vec<String>) -> Result<(), Sh
     reads::register(shell)?;
     jog::register(shell)?;
     actions::register(shell)?;
+    ca::register(shell)?;
     convert::register_topics(shell, names)?;
     Ok(())
 }
