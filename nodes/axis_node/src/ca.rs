@@ -252,7 +252,11 @@ fn decode_transform_position(c: &GroupCtx, r: CaTransformPositionRequest) -> Dec
             group: c.group.clone(),
             origin_oid: r.origin_oid,
             destination_oid: r.destination_oid,
-            origin_position: lreal(&r.origin_position, "MC_TransformPosition", "origin_position")?,
+            origin_position: lreal(
+                &r.origin_position,
+                "MC_TransformPosition",
+                "origin_position",
+            )?,
         }),
         c.label("transform_position"),
     ))
@@ -409,7 +413,12 @@ where
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     let snap = shell.handle.snapshot();
     let axes: Vec<String> = snap.state.axes.iter().map(|a| a.name.clone()).collect();
-    let groups: Vec<String> = snap.state.ca_groups.iter().map(|g| g.name.clone()).collect();
+    let groups: Vec<String> = snap
+        .state
+        .ca_groups
+        .iter()
+        .map(|g| g.name.clone())
+        .collect();
     for group in groups {
         let ctx = Arc::new(GroupCtx {
             group: group.clone(),
@@ -561,7 +570,10 @@ fn register_group(
         MoveRelativeCaAction(ctx.clone()),
     )?;
     shell.action(&format!("{base}/halt"), HaltCaAction(ctx.clone()))?;
-    shell.action(&format!("{base}/gear_in_pos"), GearInPosCaAction(ctx.clone()))?;
+    shell.action(
+        &format!("{base}/gear_in_pos"),
+        GearInPosCaAction(ctx.clone()),
+    )?;
     shell.action(&format!("{base}/group_halt"), GroupHaltAction(ctx.clone()))?;
     let group = ctx.group.clone();
     shell.state_publisher(
@@ -624,8 +636,11 @@ pub(crate) fn group_state(s: &Stamped<AxisSnapshot>, group: &str) -> CaGroupStat
 // ------------------------------------------------------------------ actions
 
 /// Kinematics of an axis for feedback and results: (position, velocity, gap_actual,
-/// ca_limited, start_sync, in_sync); outside the group: its single-axis set values.
-fn kin(snap: &Stamped<AxisSnapshot>, group: &str, axis: &str) -> (f64, f64, f64, bool, bool, bool) {
+/// ca_limited, start_sync, in_sync, active command); outside the group: its single-axis set
+/// values.
+type Kin = (f64, f64, f64, bool, bool, bool, Option<CmdId>);
+
+fn kin(snap: &Stamped<AxisSnapshot>, group: &str, axis: &str) -> Kin {
     let member = snap
         .state
         .ca_groups
@@ -641,14 +656,15 @@ fn kin(snap: &Stamped<AxisSnapshot>, group: &str, axis: &str) -> (f64, f64, f64,
             a.ca_limited,
             a.start_sync,
             a.in_sync,
+            a.active_command_id,
         ),
         None => snap
             .state
             .axes
             .iter()
             .find(|a| a.name == axis)
-            .map_or((0.0, 0.0, f64::NAN, false, false, false), |a| {
-                (a.set_pos, a.set_velo, f64::NAN, false, false, false)
+            .map_or((0.0, 0.0, f64::NAN, false, false, false, None), |a| {
+                (a.set_pos, a.set_velo, f64::NAN, false, false, false, None)
             }),
     }
 }
@@ -709,7 +725,9 @@ macro_rules! ca_action {
                 let o = ExecuteOutputs::from(state);
                 $feedback {
                     busy: o.busy,
-                    active: o.active,
+                    // Active = the block controls the axis (the engine reports a command
+                    // admitted as Active without an event; the state shows its owner).
+                    active: o.active || (o.busy && $k.6 == Some(id)),
                     command_id: id.0,
                     position: $k.0,
                     velocity: $k.1,
@@ -824,7 +842,10 @@ fn decode_gear_in_pos(c: &GroupCtx, g: &GearInPosCaGoal) -> Decoded {
     if g.forbid_direction_reversal {
         return Err(not_implemented(o, "DirectionReversalAllowed = FALSE"));
     }
-    if !matches!(g.minimal_slave_position.kind, McLreal::UNSET | McLreal::IGNORE) {
+    if !matches!(
+        g.minimal_slave_position.kind,
+        McLreal::UNSET | McLreal::IGNORE
+    ) {
         lreal(&g.minimal_slave_position, o, "minimal_slave_position")?;
         return Err(not_implemented(o, "MinimalSlavePosition"));
     }

@@ -112,7 +112,9 @@ impl AxisNodeConfig {
                         axes.push((name.to_string(), c));
                     }
                 }
-                Some(other) => return Err(bad(other, "unknown key (axis_node takes: axes, ca_groups)")),
+                Some(other) => {
+                    return Err(bad(other, "unknown key (axis_node takes: axes, ca_groups)"))
+                }
                 None => return Err(bad("?", "keys must be strings")),
             }
         }
@@ -173,7 +175,10 @@ pub fn start(
         "axes".to_string(),
         ParameterValue::StringArray(names.clone()),
     )];
-    params.push(("ca_groups".to_string(), ParameterValue::StringArray(ca_names)));
+    params.push((
+        "ca_groups".to_string(),
+        ParameterValue::StringArray(ca_names),
+    ));
     Ok(NodeHost::start(
         KIND,
         common,
