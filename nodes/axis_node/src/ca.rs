@@ -1024,3 +1024,43 @@ impl ActionBinding<AxisEngine> for GroupHaltAction {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// `ca_groups` in a launch-config entry: errors name the key and the problem.
+    #[test]
+    fn ca_groups_config_errors_name_key_and_problem() {
+        let check = |text: &str| {
+            let v: serde_yaml::Value = serde_yaml::from_str(text).unwrap();
+            crate::check(v, "f.yaml: nodes[0] (axis_node)")
+        };
+        check("axes: {x: {}}\nca_groups: {ring: {rail_length: 1200.0}, other: ~}\n")
+            .expect("valid");
+        for (text, needles) in [
+            (
+                "axes: {x: {}}\nca_groups: {ring: {rail_lenght: 5}}\n",
+                &[
+                    "nodes[0] (axis_node).ca_groups.ring",
+                    "unknown field `rail_lenght`",
+                ][..],
+            ),
+            (
+                "axes: {x: {}}\nca_groups: {ring: {rail_length: -5}}\n",
+                &["ca_groups.ring", "rail_length = -5 is out of range"][..],
+            ),
+            (
+                "axes: {x: {}}\nca_groups: {ring: {default_gap: 1500, rail_length: 1200}}\n",
+                &["ca_groups.ring", "default_gap"][..],
+            ),
+            (
+                "axes: {x: {}}\nca_groups: [ring]\n",
+                &["ca_groups", "expected a mapping"][..],
+            ),
+        ] {
+            let e = check(text).expect_err(text).to_string();
+            for n in needles {
+                assert!(e.contains(n), "{text:?}: '{n}' not in {e}");
+            }
+        }
+    }
+}
