@@ -2,11 +2,14 @@
 //! three movers is built and enabled through `~/ca/ring/` services, a follower's
 //! MC_MoveAbsoluteCA into its leader's gap waits behind the leader (the state topic shows the
 //! gap kept) and finishes once the leader has moved on; read_status, refused requests with
-//! their error ids, and MC_GroupStop; with both request/reply mappings.
+//! their error ids, a cancelled MC_MoveRelativeCA (= MC_HaltCA), MC_GearInPosCA to InSync with
+//! an ungrouped master, and MC_GroupStop; with both request/reply mappings.
 
 use axis_node::AxisNode;
 use motion_msgs::action::{
-    MoveAbsoluteCa, MoveAbsoluteCaFeedback, MoveAbsoluteCaGoal, MoveAbsoluteCaResult,
+    GearInPosCa, GearInPosCaFeedback, GearInPosCaGoal, GearInPosCaResult, MoveAbsoluteCa,
+    MoveAbsoluteCaFeedback, MoveAbsoluteCaGoal, MoveAbsoluteCaResult, MoveRelativeCa,
+    MoveRelativeCaFeedback, MoveRelativeCaGoal, MoveRelativeCaResult,
 };
 use motion_msgs::msg::{CaGroupState, CommandStatus, McLreal};
 use motion_msgs::srv::*;
@@ -19,6 +22,7 @@ axes:
   a: {initial_position: 1000.0, max_velocity: 2000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0, fast_acceleration: 20000.0, fast_deceleration: 20000.0, fast_jerk: 200000.0}
   b: {initial_position: 500.0, max_velocity: 2000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0, fast_acceleration: 20000.0, fast_deceleration: 20000.0, fast_jerk: 200000.0}
   c: {initial_position: 0.0, max_velocity: 2000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0, fast_acceleration: 20000.0, fast_deceleration: 20000.0, fast_jerk: 200000.0}
+  m: {initial_position: 0.0, max_velocity: 2000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0}
 ca_groups:
   ring: {rail_length: 3000.0, default_gap: 100.0}
 ";
@@ -91,7 +95,7 @@ async fn scenario(mapping: ServiceMapping) {
     let power = c
         .client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name())
         .await;
-    for axis in ["a", "b", "c"] {
+    for axis in ["a", "b", "c", "m"] {
         let r = call(
             &power,
             "power",
@@ -288,6 +292,91 @@ async fn scenario(mapping: ServiceMapping) {
         .await;
     let r = call(&re, "read_error", CaReadErrorRequest::default()).await;
     assert!(r.accepted && r.group_error_id == 0, "{r:?}");
+
+    // Cancel = MC_HaltCA: c's long relative move ends CANCELED with command_aborted.
+    let rel = c
+        .action::<MoveRelativeCaGoal, MoveRelativeCaResult, MoveRelativeCaFeedback>(
+            &format!("{NS}/move_relative"),
+            &MoveRelativeCa::action_type_name(),
+        )
+        .await;
+    let (gid, _) = send_goal(
+        &rel,
+        "relative goal",
+        MoveRelativeCaGoal {
+            axis: "c".into(),
+            distance: value(300.0),
+            velocity: value(100.0),
+            ..Default::default()
+        },
+    )
+    .await;
+    state_until(&states, "c moving", |s| s.axes[2].velocity > 10.0).await;
+    let cr = within(
+        10.0,
+        "cancel",
+        rel.async_cancel_goal(gid, ros2_client::builtin_interfaces::Time::ZERO),
+    )
+    .await
+    .unwrap();
+    assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
+    let (status, result) = within(20.0, "canceled result", rel.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Canceled, "{result:?}");
+    assert!(result.command_aborted && !result.done);
+    let s = state_until(&states, "c halted", |s| s.all_axes_standing).await;
+    assert!(s.axes[2].position > 0.0 && s.axes[2].position < 300.0);
+
+    // MC_GearInPosCA: c follows the ungrouped master m (s* = 300 + m - 100), Early; the goal
+    // succeeds at InSync and the coupling runs on (the state shows InSync).
+    let mvel = c
+        .client::<MoveVelocityRequest, MoveVelocityResponse>(
+            "/axis_node/move_velocity",
+            MoveVelocity::service_type_name(),
+        )
+        .await;
+    let r = call(
+        &mvel,
+        "master move_velocity",
+        MoveVelocityRequest {
+            axis: "m".into(),
+            velocity: 100.0,
+            direction: 1,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(r.accepted, "{}", r.message);
+    let gear = c
+        .action::<GearInPosCaGoal, GearInPosCaResult, GearInPosCaFeedback>(
+            &format!("{NS}/gear_in_pos"),
+            &GearInPosCa::action_type_name(),
+        )
+        .await;
+    let (gid, _) = send_goal(
+        &gear,
+        "gear goal",
+        GearInPosCaGoal {
+            master: "m".into(),
+            slave: "c".into(),
+            master_sync_position: value(100.0),
+            slave_sync_position: value(300.0),
+            sync_strategy: GearInPosCaGoal::SYNC_STRATEGY_EARLY,
+            velocity: value(1000.0),
+            ..Default::default()
+        },
+    )
+    .await;
+    let (status, result) = within(30.0, "gear result", gear.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    assert!(result.done && !result.error, "{result:?}");
+    assert_ne!(result.command_id, 0);
+    let s = state_until(&states, "c in sync", |s| s.axes[2].in_sync).await;
+    assert_eq!(s.axes[2].active_command_id, result.command_id);
+    assert!(!s.axes[2].start_sync);
 
     // MC_GroupStop: Stopping while Execute is held, Standby after the falling edge.
     let stop = c
