@@ -409,6 +409,10 @@ async fn scenario(mapping: ServiceMapping) {
         .unwrap();
     assert_eq!(status, GoalStatusEnum::Aborted);
     assert_eq!(result.error_id, 0x813E, "{}", result.message);
+    state_until(&states, "stopped: all standing", |s| {
+        s.state == CaGroupState::STATE_GROUP_STOPPING && s.all_axes_standing
+    })
+    .await;
     let r = call(
         &stop,
         "group_stop release",
@@ -419,6 +423,7 @@ async fn scenario(mapping: ServiceMapping) {
     )
     .await;
     assert!(r.accepted, "{}", r.message);
+    assert!(r.stop_done, "released after standstill");
     state_until(&states, "standby after the release", |s| {
         s.state == CaGroupState::STATE_GROUP_STANDBY
     })

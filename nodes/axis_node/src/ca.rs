@@ -4,7 +4,7 @@
 //!
 //! - Services (answer at once, README "ROS API rules"): `add_axis`, `remove_axis`,
 //!   `group_enable`, `group_disable`, `group_reset`, `ungroup_all`, `reset_diagnostics`,
-//!   `group_stop` (Execute level), `set_override` (Enable-type), `read_status`, `read_error`,
+//!   `group_stop` (Execute level; `stop_done` on the falling edge), `set_override` (Enable-type), `read_status`, `read_error`,
 //!   `update_gap`, `activate_track`, `read_track_positions`, `register_compensation`,
 //!   `transform_position`, `set_template_active`. Execute-type blocks answer with their
 //!   `command_id`; their outputs follow on `~/command_status` (and `~/get_outputs`).
@@ -294,6 +294,18 @@ fn respond_read_status(o: Outcome) -> CaReadStatusResponse {
     }
 }
 
+/// The falling edge answers with the group status: Done = Stopping and standing.
+fn respond_group_stop(o: Outcome) -> CaGroupStopResponse {
+    let r = answer::<CaGroupStopResponse>(&o);
+    match value(&o) {
+        Some(CaValue::Status(s)) => CaGroupStopResponse {
+            stop_done: s.group_stopping && s.all_axes_standing,
+            ..r
+        },
+        _ => r,
+    }
+}
+
 fn respond_read_error(o: Outcome) -> CaReadErrorResponse {
     let r = answer::<CaReadErrorResponse>(&o);
     match value(&o) {
@@ -486,7 +498,7 @@ fn register_group(
         "group_stop",
         CaGroupStop::service_type_name(),
         decode_group_stop,
-        |o| answer::<CaGroupStopResponse>(&o),
+        respond_group_stop,
     )?;
     serve(
         shell,
@@ -1027,6 +1039,26 @@ impl ActionBinding<AxisEngine> for GroupHaltAction {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
+    /// McLreal's ROS encoding: kinds 0..4, a non-finite VALUE 0x7F02, a bad kind 0x7F03.
+    #[test]
+    fn mc_lreal_encoding() {
+        let m = |kind, value| McLreal { kind, value };
+        let ok = |k, v| lreal(&m(k, v), "o", "f").unwrap();
+        assert_eq!(ok(McLreal::UNSET, 5.0), ca::McLreal::Unset);
+        assert_eq!(ok(McLreal::VALUE, 5.0), ca::McLreal::Value(5.0));
+        assert_eq!(ok(McLreal::DEFAULT, f64::NAN), ca::McLreal::Default);
+        assert_eq!(ok(McLreal::MAXIMUM, 0.0), ca::McLreal::Maximum);
+        assert_eq!(ok(McLreal::IGNORE, 0.0), ca::McLreal::Ignore);
+        assert_eq!(McLreal::default().kind, McLreal::UNSET, "default = preset");
+        let e = lreal(&m(McLreal::VALUE, f64::INFINITY), "o", "f").unwrap_err();
+        assert_eq!(e.error_id, ErrorId::NOT_FINITE);
+        let e = lreal(&m(5, 1.0), "o", "f.x").unwrap_err();
+        assert_eq!(e.error_id, ErrorId::ENUM_OUT_OF_RANGE);
+        assert!(e.message.contains("f.x.kind = 5"), "{}", e.message);
+    }
+
     /// `ca_groups` in a launch-config entry: errors name the key and the problem.
     #[test]
     fn ca_groups_config_errors_name_key_and_problem() {
