@@ -240,13 +240,20 @@ async fn scenario(mapping: ServiceMapping) {
     assert!(b.gap_actual >= b.gap_target - 1e-6, "gap kept: {b:?}");
     assert!((b.gap_target - 100.0).abs() < 1e-9);
     {
+        // Feedback shows the command Busy and Active (the first ones may predate the state
+        // that shows the follower's command in control).
         use futures::StreamExt;
-        let f = within(10.0, "follower feedback", fb.next())
-            .await
-            .expect("feedback")
-            .expect("feedback ok");
-        assert!(f.busy && f.active);
-        assert_eq!(f.command_id, b.active_command_id);
+        within(10.0, "follower feedback Active", async {
+            loop {
+                let f = fb.next().await.expect("feedback").expect("feedback ok");
+                assert!(f.busy);
+                assert_eq!(f.command_id, b.active_command_id);
+                if f.active {
+                    break;
+                }
+            }
+        })
+        .await;
     }
 
     // The leader moves on to 1500 (its action to its result); then the follower arrives.
@@ -292,6 +299,43 @@ async fn scenario(mapping: ServiceMapping) {
         .await;
     let r = call(&re, "read_error", CaReadErrorRequest::default()).await;
     assert!(r.accepted && r.group_error_id == 0, "{r:?}");
+
+    // Track positions without an active track: the absolute set position, ids 0.
+    let rtp = c
+        .client::<CaReadTrackPositionsRequest, CaReadTrackPositionsResponse>(
+            &format!("{NS}/read_track_positions"),
+            CaReadTrackPositions::service_type_name(),
+        )
+        .await;
+    let r = call(
+        &rtp,
+        "read_track_positions",
+        CaReadTrackPositionsRequest { axis: "b".into() },
+    )
+    .await;
+    assert!(r.accepted && r.valid, "{r:?}");
+    assert!(
+        (r.track_position - 950.0).abs() < 1e-6 && r.track_id == 0,
+        "{r:?}"
+    );
+    // update_gap without ContinuousUpdate: the engine's CONTINUOUS_UPDATE_NOT_ENABLED.
+    let ug = c
+        .client::<CaUpdateGapRequest, CaUpdateGapResponse>(
+            &format!("{NS}/update_gap"),
+            CaUpdateGap::service_type_name(),
+        )
+        .await;
+    let r = call(
+        &ug,
+        "update_gap",
+        CaUpdateGapRequest {
+            axis: "b".into(),
+            gap: value(50.0),
+        },
+    )
+    .await;
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, 0x8F0F, "{}", r.message);
 
     // Cancel = MC_HaltCA: c's long relative move ends CANCELED with command_aborted.
     let rel = c
