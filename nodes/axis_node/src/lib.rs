@@ -40,7 +40,7 @@ pub const NODE_KIND: NodeKind = NodeKind {
 
 /// Checks an `axis_node` entry's engine part (`--check`): parse and build the engine.
 pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
-    build(parse(engine_cfg, location)?.0, location).map(|_| ())
+    build_with_ca(parse(engine_cfg, location)?.0, location).map(|_| ())
 }
 
 fn parse(
@@ -53,12 +53,18 @@ fn parse(
 }
 
 fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
-    let mut engine = AxisEngine::new(cfg.axes).map_err(|r| ConfigError {
+    AxisEngine::new(cfg.axes).map_err(|r| ConfigError {
         location: format!("{location}.axes"),
         message: r.message,
-    })?;
-    // Collision-avoidance groups (collision_avoidance.md §3.1): validated by the engine.
-    for (name, c) in cfg.ca_groups {
+    })
+}
+
+/// [`build`], then the collision-avoidance groups (collision_avoidance.md §3.1, validated by
+/// the engine).
+fn build_with_ca(mut cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
+    let ca_groups = std::mem::take(&mut cfg.ca_groups);
+    let mut engine = build(cfg, location)?;
+    for (name, c) in ca_groups {
         engine
             .add_ca_group(name.clone(), c)
             .map_err(|r| ConfigError {
@@ -112,9 +118,7 @@ impl AxisNodeConfig {
                         axes.push((name.to_string(), c));
                     }
                 }
-                Some(other) => {
-                    return Err(bad(other, "unknown key (axis_node takes: axes, ca_groups)"))
-                }
+                Some(other) => return Err(bad(other, "unknown key (axis_node takes: axes)")),
                 None => return Err(bad("?", "keys must be strings")),
             }
         }
@@ -170,11 +174,13 @@ pub fn start(
         c.cycle_time = common.cycle_period;
     }
     let ca_names: Vec<String> = cfg.ca_groups.iter().map(|(n, _)| n.clone()).collect();
-    let engine = build(cfg, location)?;
-    let mut params = vec![(
+    let engine = build_with_ca(cfg, location)?;
+    let params = vec![(
         "axes".to_string(),
         ParameterValue::StringArray(names.clone()),
     )];
+    // The CA groups' names (read-only, like `axes`).
+    let mut params = params;
     params.push((
         "ca_groups".to_string(),
         ParameterValue::StringArray(ca_names),
