@@ -14,7 +14,11 @@
 //!   profile's safety/simulation services and `~/platform/status` (`platform`), configured by
 //!   the entry's `platform_profile`, `groups` and `platform` keys (plcopen_platform.md).
 
+//! - collision-avoidance groups (`ca`, launch key `ca_groups`): services, actions and the
+//!   state topic under `~/ca/<group>/`.
+
 mod actions;
+mod ca;
 #[cfg(test)]
 mod config_tests;
 mod convert;
@@ -26,6 +30,7 @@ mod platform;
 mod reads;
 mod services;
 
+use axis_engine::ca::CaGroupConfig;
 use axis_engine::{AxisConfig, AxisEngine, EngineConfig};
 use motion_runtime::host::{from_value, CommonConfig, ConfigError};
 use motion_runtime::launch::{RunningNode, StartError};
@@ -44,7 +49,7 @@ pub const NODE_KIND: NodeKind = NodeKind {
 
 /// Checks an `axis_node` entry's engine part (`--check`): parse and build the engine.
 pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
-    build(parse(engine_cfg, location)?.0, location).map(|_| ())
+    build_with_ca(parse(engine_cfg, location)?.0, location).map(|_| ())
 }
 
 fn parse(
@@ -63,6 +68,22 @@ fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError>
     })
 }
 
+/// [`build`], then the collision-avoidance groups (collision_avoidance.md §3.1, validated by
+/// the engine).
+fn build_with_ca(mut cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError> {
+    let ca_groups = std::mem::take(&mut cfg.ca_groups);
+    let mut engine = build(cfg, location)?;
+    for (name, c) in ca_groups {
+        engine
+            .add_ca_group(name.clone(), c)
+            .map_err(|r| ConfigError {
+                location: format!("{location}.ca_groups.{name}"),
+                message: r.message,
+            })?;
+    }
+    Ok(engine)
+}
+
 /// The engine part of an `axis_node` entry of a launch config.
 #[derive(Clone, Debug, Default)]
 pub struct AxisNodeConfig {
@@ -71,6 +92,8 @@ pub struct AxisNodeConfig {
     /// `platform_profile`, `groups` and `platform` (plcopen_platform.md): the engine-level
     /// configuration.
     pub engine: EngineConfig,
+    /// Collision-avoidance groups in configuration order: name and §3.1 parameters.
+    pub ca_groups: Vec<(String, CaGroupConfig)>,
 }
 
 impl AxisNodeConfig {
@@ -89,8 +112,10 @@ impl AxisNodeConfig {
         };
         let mut axes = Vec::new();
         let mut engine = serde_yaml::Mapping::new();
+        let mut ca_groups = Vec::new();
         for (k, val) in map {
             match k.as_str() {
+                Some("ca_groups") => ca_groups = ca_groups_from_yaml(&val, location)?,
                 Some("axes") => {
                     let m = val
                         .as_mapping()
@@ -114,7 +139,7 @@ impl AxisNodeConfig {
                 Some(other) => {
                     return Err(bad(
                         other,
-                        "unknown key (axis_node takes: axes, platform_profile, groups, platform)",
+                        "unknown key (axis_node takes: axes, platform_profile, groups, platform, ca_groups)",
                     ))
                 }
                 None => return Err(bad("?", "keys must be strings")),
@@ -124,8 +149,41 @@ impl AxisNodeConfig {
             return Err(bad("axes", "no axis configured"));
         }
         let engine = engine_config::finish(engine, &axes, location)?;
-        Ok(AxisNodeConfig { axes, engine })
+        Ok(AxisNodeConfig {
+            axes,
+            engine,
+            ca_groups,
+        })
     }
+}
+
+/// Reads `ca_groups: { <name>: { <CaGroupConfig field>: value, ... }, ... }` (order kept;
+/// an empty entry takes the §3.1 defaults).
+fn ca_groups_from_yaml(
+    v: &serde_yaml::Value,
+    location: &str,
+) -> Result<Vec<(String, CaGroupConfig)>, ConfigError> {
+    let bad = |msg: &str| ConfigError {
+        location: format!("{location}.ca_groups"),
+        message: msg.into(),
+    };
+    let m = v
+        .as_mapping()
+        .ok_or_else(|| bad("expected a mapping of CA group names"))?;
+    let mut groups = Vec::new();
+    for (name, cfg) in m {
+        let name = name
+            .as_str()
+            .ok_or_else(|| bad("CA group names must be strings"))?;
+        let cfg = if cfg.is_null() {
+            serde_yaml::Value::Mapping(Default::default())
+        } else {
+            cfg.clone()
+        };
+        let c: CaGroupConfig = from_value(cfg, &format!("{location}.ca_groups.{name}"))?;
+        groups.push((name.to_string(), c));
+    }
+    Ok(groups)
 }
 
 /// A running axis node.
@@ -145,7 +203,8 @@ pub fn start(
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
     }
-    let engine = build(cfg, location)?;
+    let ca_names: Vec<String> = cfg.ca_groups.iter().map(|(n, _)| n.clone()).collect();
+    let engine = build_with_ca(cfg, location)?;
     let params = vec![
         (
             "axes".to_string(),
@@ -154,6 +213,11 @@ pub fn start(
         (
             "platform_profile".to_string(),
             ParameterValue::String(profile.to_string()),
+        ),
+        // The CA groups' names (read-only, like `axes`).
+        (
+            "ca_groups".to_string(),
+            ParameterValue::StringArray(ca_names),
         ),
     ];
     Ok(NodeHost::start(
@@ -184,6 +248,7 @@ fn setup(
     reads::register(shell)?;
     jog::register(shell)?;
     actions::register(shell)?;
+    ca::register(shell)?;
     convert::register_topics(shell, names)?;
     groups::register(shell, &groups)?;
     platform::register(shell)?;

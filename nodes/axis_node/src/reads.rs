@@ -145,6 +145,9 @@ pub(crate) fn fb_name(k: FbKind) -> &'static str {
 fn get_outputs(o: Result<AxisReply, Rejection>, _t: f64) -> GetOutputsResponse {
     let out = match o.map(|r| r.value) {
         Ok(ReplyValue::Outputs(out)) => out,
+        Ok(ReplyValue::Ca(v)) if crate::ca::get_outputs(&v).is_some() => {
+            return crate::ca::get_outputs(&v).unwrap_or_default()
+        }
         // An instance of a Part 4 group FB: its Execute outputs (groups.rs).
         Ok(ReplyValue::Group(axis_engine::GroupReply::Outputs(s))) => {
             return GetOutputsResponse {

@@ -827,6 +827,29 @@ pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
         end: CommandState,
         rejection: Option<&Rejection>,
     ) -> Self::Result;
+    /// [`Self::feedback`] knowing the engine's command id (for feedback that carries it);
+    /// the default ignores the id.
+    fn feedback_of(
+        &self,
+        goal: &Self::Goal,
+        _id: CmdId,
+        snap: &Stamped<E::Snapshot>,
+        state: CommandState,
+    ) -> Self::Feedback {
+        self.feedback(goal, snap, state)
+    }
+    /// [`Self::result`] knowing the engine's command id (None: refused before an instance
+    /// existed); the default ignores the id.
+    fn result_of(
+        &self,
+        goal: &Self::Goal,
+        _id: Option<CmdId>,
+        snap: &Stamped<E::Snapshot>,
+        end: CommandState,
+        rejection: Option<&Rejection>,
+    ) -> Self::Result {
+        self.result(goal, snap, end, rejection)
+    }
     /// For FBs whose Done-type output is reached while the command runs on (InVelocity,
     /// InEndVelocity, InTorque): the query of the running command's outputs, asked at the
     /// feedback rate. Default: none, the goal succeeds only at the final Done.
@@ -857,7 +880,7 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
         let end = CommandState::Error(r.error_id);
         (
             GoalEndStatus::Aborted,
-            binding.result(goal, &handle.snapshot(), end, Some(&r)),
+            binding.result_of(goal, None, &handle.snapshot(), end, Some(&r)),
         )
     };
     let (cmd, label) = match binding.command(goal) {
@@ -872,7 +895,7 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
         // An instantaneous command: done at its edge.
         return (
             GoalEndStatus::Succeeded,
-            binding.result(goal, &handle.snapshot(), CommandState::Done, None),
+            binding.result_of(goal, None, &handle.snapshot(), CommandState::Done, None),
         );
     };
     registry.insert(id, label);
@@ -895,7 +918,7 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
                 None => break CommandState::Error(ErrorId::NOT_RUNNING),
             },
             _ = tick.tick() => {
-                let fb = binding.feedback(goal, &handle.snapshot(), state);
+                let fb = binding.feedback_of(goal, id, &handle.snapshot(), state);
                 let _ = server.publish_feedback(executing.clone(), fb).await;
                 if let Some(query) = binding.reached_query(id) {
                     if matches!(handle.call(query).await, Ok(r) if binding.reached(&r)) {
@@ -911,7 +934,7 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
         }
     };
     // Let the snapshot catch up with the final cycle before building the result.
-    let result = binding.result(goal, &handle.snapshot(), end, None);
+    let result = binding.result_of(goal, Some(id), &handle.snapshot(), end, None);
     // A goal whose cancel was accepted ends CANCELED (taken over by the halt, or Done: a jog
     // released by the cancel), unless it failed: the error id then comes with ABORTED.
     let was_canceled = canceled

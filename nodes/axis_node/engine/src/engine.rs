@@ -2234,6 +2234,17 @@ impl AxisEngine {
                         tracked: false,
                     });
                 }
+                if self.fbs.get(id).is_none() {
+                    if let Some(outputs) = self.ca.outputs(id) {
+                        let gear = self.ca.gear_outputs(id);
+                        let v = crate::ca::CaValue::Outputs { outputs, gear };
+                        return Ok(AxisReply {
+                            id,
+                            value: ReplyValue::Ca(Box::new(v)),
+                            tracked: false,
+                        });
+                    }
+                }
                 return self.read_fb_outputs(id);
             }
             AxisCommand::Ca(c) => {

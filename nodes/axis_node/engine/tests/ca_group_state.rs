@@ -435,3 +435,46 @@ fn single_axis_motion_on_a_member_only_while_disabled() {
     r.disable();
     r.e.command(mv).unwrap();
 }
+
+/// Regression (found through the ROS shell): a follower waiting behind its leader with the
+/// single-axis default dynamics (A 1000, J 10000) kept a set velocity of ≈ 2e-12 mm/s
+/// forever, so AllAxesStanding stayed FALSE and the group GroupMoving. Now it stands exactly.
+#[test]
+fn waiting_follower_stands_exactly() {
+    let cfg = |x: f64| axis_engine::AxisConfig {
+        initial_position: x,
+        max_velocity: 2000.0,
+        fast_acceleration: 20000.0,
+        fast_deceleration: 20000.0,
+        fast_jerk: 200000.0,
+        ..Default::default()
+    };
+    let mut e =
+        axis_engine::AxisEngine::new(vec![("a".into(), cfg(1000.0)), ("b".into(), cfg(500.0))])
+            .unwrap();
+    e.add_ca_group(G, ring(3000.0)).unwrap();
+    let mut r = CaRig {
+        e,
+        events: Vec::new(),
+        tick: 0,
+        worst_margin: f64::INFINITY,
+        check_gaps: true,
+        prev: Vec::new(),
+        max_jerk_ratio: 0.0,
+    };
+    r.power("a", true);
+    r.power("b", true);
+    r.step();
+    r.add("a", 1).unwrap();
+    r.add("b", 2).unwrap();
+    r.enable();
+    r.step();
+    let id = r.mv_abs("b", 950.0, 500.0);
+    r.steps(5000);
+    let b = r.axis("b");
+    assert!((b.position - 900.0).abs() < 1e-6, "waits at 900: {b:?}");
+    assert_eq!((b.velocity, b.acceleration), (0.0, 0.0), "{b:?}");
+    assert_eq!(b.active_command_id, Some(id), "still waiting");
+    assert!(r.group().all_axes_standing);
+    assert!(r.worst_margin >= -1e-6);
+}

@@ -386,3 +386,49 @@ fn after_sync_velocity_limits_the_coupled_slave() {
         "keeps trying (no Done, no Error)"
     );
 }
+
+/// For the ROS shell (no direct engine access): `ReadFbOutputs` of a CA instance answers with
+/// `CaValue::Outputs` (standard outputs + StartSync/InSync), and the group snapshot shows the
+/// slave's StartSync/InSync; both agree with `gear_outputs`.
+#[test]
+fn read_fb_outputs_and_snapshot_show_start_sync_and_in_sync() {
+    let mut r = rig();
+    let id = gear(&mut r, SyncStrategy::Early, 1.0);
+    let read = |r: &mut CaRig| match r.e.command(AxisCommand::ReadFbOutputs { id }) {
+        Ok(axis_engine::AxisReply {
+            value: axis_engine::ReplyValue::Ca(v),
+            tracked: false,
+            ..
+        }) => match *v {
+            CaValue::Outputs { outputs, gear } => (outputs, gear),
+            other => panic!("unexpected value {other:?}"),
+        },
+        other => panic!("unexpected reply {other:?}"),
+    };
+    let (mut saw_start, mut saw_sync) = (false, false);
+    for _ in 0..3000 {
+        r.step();
+        let (o, g) = read(&mut r);
+        assert!(o.busy && o.active && !o.done);
+        let g = g.expect("running coupling");
+        assert_eq!(Some(g), r.e.ca_groups().gear_outputs(id));
+        let s = r.axis("S");
+        assert_eq!((s.start_sync, s.in_sync), (g.start_sync, g.in_sync));
+        saw_start |= g.start_sync;
+        saw_sync |= g.in_sync;
+        if saw_sync {
+            break;
+        }
+    }
+    assert!(saw_start && saw_sync, "StartSync then InSync seen");
+    // After the coupling ends: CommandAborted, no gear outputs, flags cleared.
+    r.ok(CaCommand::Halt(HaltCa {
+        axis: "S".into(),
+        ..Default::default()
+    }));
+    r.step();
+    let (o, g) = read(&mut r);
+    assert!(o.command_aborted && !o.busy);
+    assert_eq!(g, None);
+    assert!(!r.axis("S").in_sync && !r.axis("S").start_sync);
+}

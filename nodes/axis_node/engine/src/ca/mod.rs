@@ -548,6 +548,8 @@ impl CaGroups {
                             min_gap_margin: m.min_margin,
                             track_id: m.track,
                             compensation_id: m.compensation,
+                            start_sync: matches!(m.job, Job::Gear { gear, .. } if gear.started && !gear.in_sync),
+                            in_sync: matches!(m.job, Job::Gear { gear, .. } if gear.in_sync),
                         }
                     })
                     .collect(),

@@ -195,6 +195,8 @@ pub struct StepOut {
 
 /// Standstill threshold of §8.5 step 0 \[mm\].
 pub const START_THRESHOLD: f64 = 1e-4;
+/// |v| [mm/s] and |a| [mm/s²] below which a planned state is standstill (numerical residue).
+pub const REST_EPS: f64 = 1e-9;
 /// Bisection steps: jerk resolution 2·J/2³² (< 1e-4 mm/s³ at J = 2e5).
 const ITER: usize = 32;
 
@@ -363,7 +365,14 @@ pub fn step(p: &StepIn) -> StepOut {
     let db = p.d_ca.max(dn);
     let jb = p.j_ca.max(jn);
     let out = |s: Kin, lim: bool| StepOut {
-        s,
+        // A residue of the bound search (|v| and |a| far below one ULP of motion per cycle)
+        // is standstill: else a follower waiting behind its leader keeps v ≈ 1e-12 forever
+        // and the group never reports AllAxesStanding (§5.16).
+        s: if s.v.abs() < REST_EPS && s.a.abs() < REST_EPS {
+            Kin::rest(s.x)
+        } else {
+            s
+        },
         ca_limited: lim,
         d_b: db,
         j_b: jb,

@@ -671,6 +671,14 @@ pub enum CaValue {
         /// PartId (0 = none).
         part_id: u32,
     },
+    /// `AxisCommand::ReadFbOutputs` of a CA block instance: its standard outputs and, for a
+    /// running MC_GearInPosCA, StartSync / InSync.
+    Outputs {
+        /// Done/Busy/Active/CommandAborted/Error/ErrorID.
+        outputs: motion_core::ExecuteOutputs,
+        /// StartSync / InSync of a running coupling (None: not a running MC_GearInPosCA).
+        gear: Option<GearOutputs>,
+    },
     /// MC_GroupSetOverride: Enabled, ActualVelFactor.
     Override {
         /// Value accepted.
@@ -732,6 +740,12 @@ pub struct CaAxisStatus {
     pub track_id: u32,
     /// Registered compensation (mover template OID, 0 = none).
     pub compensation_id: u32,
+    /// StartSync of the axis' running MC_GearInPosCA (FALSE without one).
+    #[serde(default)]
+    pub start_sync: bool,
+    /// InSync of the axis' running MC_GearInPosCA (FALSE without one).
+    #[serde(default)]
+    pub in_sync: bool,
 }
 
 /// One CA group as published (CaGroupState.msg, §9.5).
