@@ -13,6 +13,7 @@
 
 mod actions;
 mod convert;
+mod extensions;
 mod fbs;
 mod jog;
 mod reads;
@@ -55,11 +56,38 @@ fn build(cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, ConfigError>
     })
 }
 
+/// Reads the `persistent_parameter_file` (if configured) and applies its lists to the engine
+/// before the first cycle (MC_Write(Bool)ParameterPersistent's initialization list).
+fn apply_persistent(
+    engine: &mut AxisEngine,
+    file: Option<&str>,
+    location: &str,
+) -> Result<extensions::Persistence, ConfigError> {
+    let Some(file) = file else {
+        return Ok(extensions::Persistence::default());
+    };
+    let bad = |message: String| ConfigError {
+        location: format!("{location}.persistent_parameter_file"),
+        message,
+    };
+    let path = std::path::PathBuf::from(file);
+    let lists = extensions::read_persistent_file(&path).map_err(bad)?;
+    for (axis, list) in &lists {
+        engine
+            .apply_persistent_parameters(axis, list)
+            .map_err(|r| bad(format!("{file}: axis '{axis}': {}", r.message)))?;
+    }
+    Ok(extensions::Persistence::new(Some(path), lists))
+}
+
 /// The engine part of an `axis_node` entry of a launch config.
 #[derive(Clone, Debug, Default)]
 pub struct AxisNodeConfig {
     /// Axes in configuration order: name and parameters (single_axis.md §1.2 defaults).
     pub axes: Vec<(String, AxisConfig)>,
+    /// `persistent_parameter_file`: where MC_Write(Bool)ParameterPersistent lists are stored
+    /// and read back at start (optional).
+    pub persistent_parameter_file: Option<String>,
 }
 
 impl AxisNodeConfig {
@@ -75,6 +103,7 @@ impl AxisNodeConfig {
             _ => return Err(bad("", "expected a mapping")),
         };
         let mut axes = Vec::new();
+        let mut persistent_parameter_file = None;
         for (k, val) in map {
             match k.as_str() {
                 Some("axes") => {
@@ -94,14 +123,28 @@ impl AxisNodeConfig {
                         axes.push((name.to_string(), c));
                     }
                 }
-                Some(other) => return Err(bad(other, "unknown key (axis_node takes: axes)")),
+                Some("persistent_parameter_file") => {
+                    let path = val.as_str().filter(|p| !p.is_empty()).ok_or_else(|| {
+                        bad("persistent_parameter_file", "expected a file path")
+                    })?;
+                    persistent_parameter_file = Some(path.to_string());
+                }
+                Some(other) => {
+                    return Err(bad(
+                        other,
+                        "unknown key (axis_node takes: axes, persistent_parameter_file)",
+                    ))
+                }
                 None => return Err(bad("?", "keys must be strings")),
             }
         }
         if axes.is_empty() {
             return Err(bad("axes", "no axis configured"));
         }
-        Ok(AxisNodeConfig { axes })
+        Ok(AxisNodeConfig {
+            axes,
+            persistent_parameter_file,
+        })
     }
 }
 
@@ -116,22 +159,34 @@ pub fn start(
     domain_id: u16,
 ) -> Result<AxisNode, StartError> {
     let (mut cfg, names) = parse(engine_cfg, location)?;
+    let file = cfg.persistent_parameter_file.clone();
     // AxisCycleTime (1050) reports the node's cycle: the engine integrates with its tick.
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
     }
-    let engine = build(cfg, location)?;
-    let params = vec![(
-        "axes".to_string(),
-        ParameterValue::StringArray(names.clone()),
-    )];
+    let mut engine = build(cfg, location)?;
+    let persistence = std::sync::Arc::new(apply_persistent(
+        &mut engine,
+        file.as_deref(),
+        location,
+    )?);
+    let params = vec![
+        (
+            "axes".to_string(),
+            ParameterValue::StringArray(names.clone()),
+        ),
+        (
+            "persistent_parameter_file".to_string(),
+            ParameterValue::String(file.unwrap_or_default()),
+        ),
+    ];
     Ok(NodeHost::start(
         KIND,
         common,
         domain_id,
         engine,
         params,
-        |shell| setup(shell, names),
+        |shell| setup(shell, names, persistence),
     )?)
 }
 
@@ -144,8 +199,13 @@ fn start_boxed(
     Ok(Box::new(start(c, v, loc, d)?))
 }
 
-fn setup(shell: &mut NodeShell<AxisEngine>, names: Vec<String>) -> Result<(), ShellError> {
+fn setup(
+    shell: &mut NodeShell<AxisEngine>,
+    names: Vec<String>,
+    persistence: std::sync::Arc<extensions::Persistence>,
+) -> Result<(), ShellError> {
     services::register(shell)?;
+    extensions::register(shell, persistence)?;
     reads::register(shell)?;
     jog::register(shell)?;
     actions::register(shell)?;
