@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
 
-const AXIS: &str = "{max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0}";
+const AXIS: &str =
+    "{max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0}";
 
 fn config(file: &Path) -> serde_yaml::Value {
     let text = format!(
@@ -217,13 +218,20 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     };
     let (gid, resp) = send_goal(&rel, "phasing_relative goal", goal).await;
     assert!(resp.accepted);
-    let (st, res) = within(30.0, "phasing_relative result", rel.async_request_result(gid))
-        .await
-        .unwrap();
+    let (st, res) = within(
+        30.0,
+        "phasing_relative result",
+        rel.async_request_result(gid),
+    )
+    .await
+    .unwrap();
     assert_eq!(st, GoalStatusEnum::Succeeded, "{res:?}");
     assert!(res.done && !res.error, "{res:?}");
     let (pm, ps) = (b.pos("m").await, b.pos("s").await);
-    assert!((ps - pm - 5.0).abs() < 1e-6, "phase offset 5: m {pm}, s {ps}");
+    assert!(
+        (ps - pm - 5.0).abs() < 1e-6,
+        "phase offset 5: m {pm}, s {ps}"
+    );
 
     // MC_PhasingAbsolute as a service: AbsolutePhaseShift on ~/get_outputs, s = m + 8.
     let abs: Client<PhasingAbsoluteRequest, PhasingAbsoluteResponse> = client(
@@ -283,12 +291,7 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
 
     let gear_out: Client<GearOutRequest, GearOutResponse> =
         client(&mut c, "gear_out", srv::GearOut::service_type_name()).await;
-    let r = call(
-        &gear_out,
-        "gear_out",
-        GearOutRequest { slave: "s".into() },
-    )
-    .await;
+    let r = call(&gear_out, "gear_out", GearOutRequest { slave: "s".into() }).await;
     accepted("gear_out", r.accepted, &r.message, &r);
 
     // --- MC_GearInMultiMaster (Enable-type): s follows m (ratio 1) + m2 (ratio 0.5); moving
@@ -311,16 +314,18 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     let r = call(&gimm, "gear_in_multi_master", req.clone()).await;
     accepted("gear_in_multi_master", r.accepted, &r.message, &r);
     let id = r.command_id;
-    let o = b
-        .until(id, "multi-master InGear", |o| o.in_gear)
-        .await;
+    let o = b.until(id, "multi-master InGear", |o| o.in_gear).await;
     assert_eq!(o.fb, "MC_GearInMultiMaster");
     assert!(o.busy && !o.error, "{o:?}");
     let r = call(&gimm, "gear_in_multi_master again", req.clone()).await;
     assert!(r.accepted && r.command_id == id, "same instance {r:?}");
     let s0 = b.pos("s").await;
-    let mv_rel: Client<MoveRelativeRequest, MoveRelativeResponse> =
-        client(&mut c, "move_relative", srv::MoveRelative::service_type_name()).await;
+    let mv_rel: Client<MoveRelativeRequest, MoveRelativeResponse> = client(
+        &mut c,
+        "move_relative",
+        srv::MoveRelative::service_type_name(),
+    )
+    .await;
     let r = call(
         &mv_rel,
         "move_relative m2",
@@ -472,7 +477,10 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     assert!(r.enabled);
     let o = b.out(r.command_id).await;
     assert_eq!(o.fb, "MC_BacklashCompensation");
-    assert!(o.enabled && o.busy && o.current_backlash.is_finite(), "{o:?}");
+    assert!(
+        o.enabled && o.busy && o.current_backlash.is_finite(),
+        "{o:?}"
+    );
     let id = r.command_id;
     let r = call(
         &bl,
@@ -693,7 +701,12 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
         },
     )
     .await;
-    accepted("write_bool_parameter_persistent", r.accepted, &r.message, &r);
+    accepted(
+        "write_bool_parameter_persistent",
+        r.accepted,
+        &r.message,
+        &r,
+    );
     let lists = axis_node_persistent(&file);
     assert_eq!(lists, vec![(1002, 123.0), (1020, 0.0)], "file {file:?}");
     let r = call(
@@ -718,8 +731,12 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     let node = start_node(domain, mapping, &file);
     let _driver = drive(&node, 5);
     let mut c = ClientNode::new(domain, "ext_client2", mapping);
-    let read_par: Client<ReadParameterRequest, ReadParameterResponse> =
-        client(&mut c, "read_parameter", srv::ReadParameter::service_type_name()).await;
+    let read_par: Client<ReadParameterRequest, ReadParameterResponse> = client(
+        &mut c,
+        "read_parameter",
+        srv::ReadParameter::service_type_name(),
+    )
+    .await;
     let r = call(
         &read_par,
         "read_parameter 1002",

@@ -124,9 +124,10 @@ impl AxisNodeConfig {
                     }
                 }
                 Some("persistent_parameter_file") => {
-                    let path = val.as_str().filter(|p| !p.is_empty()).ok_or_else(|| {
-                        bad("persistent_parameter_file", "expected a file path")
-                    })?;
+                    let path = val
+                        .as_str()
+                        .filter(|p| !p.is_empty())
+                        .ok_or_else(|| bad("persistent_parameter_file", "expected a file path"))?;
                     persistent_parameter_file = Some(path.to_string());
                 }
                 Some(other) => {
@@ -165,11 +166,8 @@ pub fn start(
         c.cycle_time = common.cycle_period;
     }
     let mut engine = build(cfg, location)?;
-    let persistence = std::sync::Arc::new(apply_persistent(
-        &mut engine,
-        file.as_deref(),
-        location,
-    )?);
+    let persistence =
+        std::sync::Arc::new(apply_persistent(&mut engine, file.as_deref(), location)?);
     let params = vec![
         (
             "axes".to_string(),
