@@ -379,6 +379,68 @@ motion_action!(
     Some(|o: &FbOutputs| o.in_torque)
 );
 
+// MC_PhasingAbsolute/Relative/HaltPhasing (§4.13): succeed at Done; feedback and result show
+// the slave; cancel = the engine's cancel (MC_HaltPhasing for the phasing FBs).
+motion_action!(
+    PhasingAbsoluteAction,
+    PhasingAbsolute,
+    PhasingAbsoluteGoal,
+    PhasingAbsoluteResult,
+    PhasingAbsoluteFeedback,
+    |g: &PhasingAbsoluteGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::extensions::phasing_command(
+            false,
+            g.master.clone(),
+            g.slave.clone(),
+            false,
+            g.phase_shift,
+            g.velocity,
+            [g.acceleration, g.deceleration, g.jerk],
+            g.buffer_mode,
+        )
+    },
+    slave
+);
+
+motion_action!(
+    PhasingRelativeAction,
+    PhasingRelative,
+    PhasingRelativeGoal,
+    PhasingRelativeResult,
+    PhasingRelativeFeedback,
+    |g: &PhasingRelativeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::extensions::phasing_command(
+            true,
+            g.master.clone(),
+            g.slave.clone(),
+            false,
+            g.phase_shift,
+            g.velocity,
+            [g.acceleration, g.deceleration, g.jerk],
+            g.buffer_mode,
+        )
+    },
+    slave
+);
+
+motion_action!(
+    HaltPhasingAction,
+    HaltPhasing,
+    HaltPhasingGoal,
+    HaltPhasingResult,
+    HaltPhasingFeedback,
+    |g: &HaltPhasingGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
+        crate::extensions::halt_phasing_command(
+            g.master.clone(),
+            g.slave.clone(),
+            g.deceleration,
+            g.jerk,
+            g.buffer_mode,
+        )
+    },
+    slave
+);
+
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     shell.action("move_continuous_absolute", MoveContinuousAbsoluteAction)?;
     shell.action("move_continuous_relative", MoveContinuousRelativeAction)?;
@@ -392,5 +454,8 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
     shell.action("home", HomeAction)?;
     shell.action("gear_in", GearInAction)?;
     shell.action("move_superimposed", MoveSuperImposedAction)?;
+    shell.action("phasing_absolute", PhasingAbsoluteAction)?;
+    shell.action("phasing_relative", PhasingRelativeAction)?;
+    shell.action("halt_phasing", HaltPhasingAction)?;
     Ok(())
 }

@@ -23,6 +23,7 @@ mod ca;
 mod config_tests;
 mod convert;
 mod engine_config;
+mod extensions;
 mod fbs;
 mod groups;
 mod jog;
@@ -84,6 +85,30 @@ fn build_with_ca(mut cfg: AxisNodeConfig, location: &str) -> Result<AxisEngine, 
     Ok(engine)
 }
 
+/// Reads the `persistent_parameter_file` (if configured) and applies its lists to the engine
+/// before the first cycle (MC_Write(Bool)ParameterPersistent's initialization list).
+fn apply_persistent(
+    engine: &mut AxisEngine,
+    file: Option<&str>,
+    location: &str,
+) -> Result<extensions::Persistence, ConfigError> {
+    let Some(file) = file else {
+        return Ok(extensions::Persistence::default());
+    };
+    let bad = |message: String| ConfigError {
+        location: format!("{location}.persistent_parameter_file"),
+        message,
+    };
+    let path = std::path::PathBuf::from(file);
+    let lists = extensions::read_persistent_file(&path).map_err(bad)?;
+    for (axis, list) in &lists {
+        engine
+            .apply_persistent_parameters(axis, list)
+            .map_err(|r| bad(format!("{file}: axis '{axis}': {}", r.message)))?;
+    }
+    Ok(extensions::Persistence::new(Some(path), lists))
+}
+
 /// The engine part of an `axis_node` entry of a launch config.
 #[derive(Clone, Debug, Default)]
 pub struct AxisNodeConfig {
@@ -94,6 +119,9 @@ pub struct AxisNodeConfig {
     pub engine: EngineConfig,
     /// Collision-avoidance groups in configuration order: name and §3.1 parameters.
     pub ca_groups: Vec<(String, CaGroupConfig)>,
+    /// `persistent_parameter_file`: where MC_Write(Bool)ParameterPersistent lists are stored
+    /// and read back at start (optional).
+    pub persistent_parameter_file: Option<String>,
 }
 
 impl AxisNodeConfig {
@@ -113,6 +141,7 @@ impl AxisNodeConfig {
         let mut axes = Vec::new();
         let mut engine = serde_yaml::Mapping::new();
         let mut ca_groups = Vec::new();
+        let mut persistent_parameter_file = None;
         for (k, val) in map {
             match k.as_str() {
                 Some("ca_groups") => ca_groups = ca_groups_from_yaml(&val, location)?,
@@ -133,13 +162,20 @@ impl AxisNodeConfig {
                         axes.push((name.to_string(), c));
                     }
                 }
+                Some("persistent_parameter_file") => {
+                    let path = val
+                        .as_str()
+                        .filter(|p| !p.is_empty())
+                        .ok_or_else(|| bad("persistent_parameter_file", "expected a file path"))?;
+                    persistent_parameter_file = Some(path.to_string());
+                }
                 Some(key) if engine_config::KEYS.contains(&key) => {
                     engine_config::take_key(&mut engine, key, val, location)?
                 }
                 Some(other) => {
                     return Err(bad(
                         other,
-                        "unknown key (axis_node takes: axes, platform_profile, groups, platform, ca_groups)",
+                        "unknown key (axis_node takes: axes, platform_profile, groups, platform, ca_groups, persistent_parameter_file)",
                     ))
                 }
                 None => return Err(bad("?", "keys must be strings")),
@@ -153,6 +189,7 @@ impl AxisNodeConfig {
             axes,
             engine,
             ca_groups,
+            persistent_parameter_file,
         })
     }
 }
@@ -199,12 +236,15 @@ pub fn start(
     let (mut cfg, names) = parse(engine_cfg, location)?;
     let groups: Vec<String> = cfg.engine.groups.iter().map(|g| g.name.clone()).collect();
     let profile = engine_config::profile_name(cfg.engine.platform_profile);
+    let file = cfg.persistent_parameter_file.clone();
     // AxisCycleTime (1050) reports the node's cycle: the engine integrates with its tick.
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
     }
     let ca_names: Vec<String> = cfg.ca_groups.iter().map(|(n, _)| n.clone()).collect();
-    let engine = build_with_ca(cfg, location)?;
+    let mut engine = build_with_ca(cfg, location)?;
+    let persistence =
+        std::sync::Arc::new(apply_persistent(&mut engine, file.as_deref(), location)?);
     let params = vec![
         (
             "axes".to_string(),
@@ -219,6 +259,10 @@ pub fn start(
             "ca_groups".to_string(),
             ParameterValue::StringArray(ca_names),
         ),
+        (
+            "persistent_parameter_file".to_string(),
+            ParameterValue::String(file.unwrap_or_default()),
+        ),
     ];
     Ok(NodeHost::start(
         KIND,
@@ -226,7 +270,7 @@ pub fn start(
         domain_id,
         engine,
         params,
-        |shell| setup(shell, names, groups),
+        |shell| setup(shell, names, groups, persistence),
     )?)
 }
 
@@ -243,8 +287,10 @@ fn setup(
     shell: &mut NodeShell<AxisEngine>,
     names: Vec<String>,
     groups: Vec<String>,
+    persistence: std::sync::Arc<extensions::Persistence>,
 ) -> Result<(), ShellError> {
     services::register(shell)?;
+    extensions::register(shell, persistence)?;
     reads::register(shell)?;
     jog::register(shell)?;
     actions::register(shell)?;

@@ -3,7 +3,9 @@
 //! so a client can poll an instance as a PLC reads it (the engine's `fb_outputs`).
 
 use crate::convert::axis_state;
-use axis_engine::{AxisCommand, AxisEngine, AxisReply, FbKind, MotionState, ReplyValue};
+use axis_engine::{
+    AxisCommand, AxisEngine, AxisReply, ExtraOutputs, FbKind, MotionState, ReplyValue,
+};
 use motion_core::{CmdId, Rejection};
 use motion_msgs::srv::*;
 use motion_runtime::{NodeShell, ShellError};
@@ -142,6 +144,43 @@ pub(crate) fn fb_name(k: FbKind) -> &'static str {
     k.fb_name()
 }
 
+/// The extra outputs of phasing, external-setpoint and position-correction instances as the
+/// tail fields of `GetOutputs` (the rest default).
+fn extra_outputs(x: Option<ExtraOutputs>) -> GetOutputsResponse {
+    let mut r = GetOutputsResponse::default();
+    match x {
+        Some(ExtraOutputs::Phasing {
+            absolute_phase_shift,
+            covered_phase_shift,
+        }) => {
+            r.absolute_phase_shift = absolute_phase_shift.unwrap_or(0.0);
+            r.covered_phase_shift = covered_phase_shift.unwrap_or(0.0);
+        }
+        Some(ExtraOutputs::ExtSetPointGen { enabled }) => r.enabled = enabled,
+        Some(ExtraOutputs::Backlash {
+            enabled,
+            current_backlash,
+            limiting,
+        }) => {
+            r.enabled = enabled;
+            r.current_backlash = current_backlash;
+            r.limiting = limiting;
+        }
+        Some(ExtraOutputs::CorrectionLimiter { limiting }) => r.limiting = limiting,
+        Some(ExtraOutputs::TableCompensation {
+            enabled,
+            current_correction,
+            limiting,
+        }) => {
+            r.enabled = enabled;
+            r.current_correction = current_correction;
+            r.limiting = limiting;
+        }
+        None => {}
+    }
+    r
+}
+
 fn get_outputs(o: Result<AxisReply, Rejection>, _t: f64) -> GetOutputsResponse {
     let out = match o.map(|r| r.value) {
         Ok(ReplyValue::Outputs(out)) => out,
@@ -179,6 +218,7 @@ fn get_outputs(o: Result<AxisReply, Rejection>, _t: f64) -> GetOutputsResponse {
     let s = out.outputs.standard;
     let si = out.superimposed.unwrap_or_default();
     let p = out.probe;
+    let x = extra_outputs(out.extra);
     GetOutputsResponse {
         accepted: true,
         error_id: 0,
@@ -207,6 +247,7 @@ fn get_outputs(o: Result<AxisReply, Rejection>, _t: f64) -> GetOutputsResponse {
         recorded_counter: p.map_or(0.0, |p| p.counter),
         recorded_absolute_position: p.map_or(0.0, |p| p.absolute_position),
         recorded_modulo_position: p.map_or(0.0, |p| p.modulo_position),
+        ..x
     }
 }
 

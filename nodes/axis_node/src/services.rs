@@ -200,23 +200,37 @@ fn decode_set_position(r: SetPositionRequest) -> Result<(AxisCommand, CommandLab
     ))
 }
 
-fn decode_write_parameter(
+/// MC_Write(Bool)Parameter, or with `persistent` MC_Write(Bool)ParameterPersistent (served
+/// by `extensions`, which stores the persistent writes).
+pub(crate) fn decode_write_parameter(
     r: WriteParameterRequest,
 ) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "write_parameter");
-    // The persistent variants behave like the plain ones in the simulator (no boot storage).
-    let cmd = if r.is_bool {
-        AxisCommand::WriteBoolParameter(axis_engine::WriteBoolParameter {
-            axis: r.axis,
-            parameter_number: r.parameter_number,
-            value: r.bool_value,
-        })
-    } else {
-        AxisCommand::WriteParameter(axis_engine::WriteParameter {
-            axis: r.axis,
-            parameter_number: r.parameter_number,
-            value: r.value,
-        })
+    let cmd = match (r.is_bool, r.persistent) {
+        (true, persistent) => {
+            let c = axis_engine::WriteBoolParameter {
+                axis: r.axis,
+                parameter_number: r.parameter_number,
+                value: r.bool_value,
+            };
+            if persistent {
+                AxisCommand::WriteBoolParameterPersistent(c)
+            } else {
+                AxisCommand::WriteBoolParameter(c)
+            }
+        }
+        (false, persistent) => {
+            let c = axis_engine::WriteParameter {
+                axis: r.axis,
+                parameter_number: r.parameter_number,
+                value: r.value,
+            };
+            if persistent {
+                AxisCommand::WriteParameterPersistent(c)
+            } else {
+                AxisCommand::WriteParameter(c)
+            }
+        }
     };
     Ok((cmd, l))
 }
@@ -269,12 +283,6 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
         SetPosition::service_type_name(),
         decode_set_position,
         respond::<SetPositionResponse>,
-    )?;
-    shell.command_service(
-        "write_parameter",
-        WriteParameter::service_type_name(),
-        decode_write_parameter,
-        respond::<WriteParameterResponse>,
     )?;
     register_stop(shell)?;
     register_read_parameter(shell)?;
