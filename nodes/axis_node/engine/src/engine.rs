@@ -908,15 +908,19 @@ impl AxisEngine {
         Ok(match def.slot {
             Slot::Config(k) => k.get(&a.cfg),
             Slot::Other(off) => a.other_params.get(&off).copied().unwrap_or(0.0),
-            Slot::GearRatio => {
-                return Err(reject(
-                    COMMAND_NOT_PERMITTED,
-                    format!(
-                        "axis '{}': {fb}: AxisGearRatio (3000) only on a coupled slave",
-                        a.name
-                    ),
-                ))
-            }
+            // The coupling's (effective) ratio while the axis is a coupled slave (§6).
+            Slot::GearRatio => match a.coupling {
+                Some(c) => c.ratio,
+                None => {
+                    return Err(reject(
+                        COMMAND_NOT_PERMITTED,
+                        format!(
+                            "axis '{}': {fb}: AxisGearRatio (3000) only on a coupled slave",
+                            a.name
+                        ),
+                    ))
+                }
+            },
             Slot::Status(s) => match s {
                 StatusValue::CommandedPosition => a.set.pos,
                 StatusValue::ActualVelocity => a.act_velo,

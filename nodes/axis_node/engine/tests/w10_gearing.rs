@@ -440,3 +440,23 @@ fn gear_out_while_gear_in_dyn_is_enabled_recouples() {
     assert_eq!(t.st("s").motion_state, MotionState::SynchronizedMotion);
     assert!(t.out(g).active);
 }
+
+/// AxisGearRatio (3000) reads the coupling ratio while the axis is a coupled slave (§6),
+/// and is refused on an uncoupled axis.
+#[test]
+fn gear_ratio_parameter_on_a_coupled_slave() {
+    let mut t = Two::new(AxisConfig::default());
+    let read = |t: &mut Two| {
+        t.e.command(AxisCommand::ReadParameter(ReadParameter {
+            axis: "s".into(),
+            parameter_number: 3000,
+        }))
+    };
+    assert!(read(&mut t).is_err(), "not coupled yet");
+    t.gear_in(3.0, 2).unwrap();
+    t.step();
+    match read(&mut t).unwrap().value {
+        ReplyValue::Real(r) => assert!((r - 1.5).abs() < 1e-12, "{r}"),
+        v => panic!("{v:?}"),
+    }
+}
