@@ -1393,6 +1393,7 @@ fn gen_package_modules(out: &mut String, p: &Package, ind: &str) {
                     gen_struct(out, "action", goal, &inner);
                     gen_struct(out, "action", result, &inner);
                     gen_struct(out, "action", feedback, &inner);
+                    gen_goal_to_request(out, p, name, goal, &inner);
                     let ros = format!("{}/action/{name}", p.name);
                     doc_line(
                         out,
@@ -1440,6 +1441,50 @@ fn gen_package_modules(out: &mut String, p: &Package, ind: &str) {
         }
         let _ = writeln!(out, "{ind}}}\n");
     }
+}
+
+/// For an action offered beside a service of the same name (a motion FB is both, README
+/// "ROS API rules"): `From<&XGoal> for XRequest` when every goal field is a request field of
+/// the same type; the request's other fields keep their defaults. So a shell decodes a goal
+/// through the service's screening path without copying fields by hand.
+fn gen_goal_to_request(out: &mut String, p: &Package, name: &str, goal: &MessageSpec, ind: &str) {
+    let Some(request) = p.interfaces.iter().find_map(|i| match i {
+        Interface::Srv {
+            name: n, request, ..
+        } if n == name => Some(request),
+        _ => None,
+    }) else {
+        return;
+    };
+    let fields_match = goal.fields.iter().all(|g| {
+        request
+            .fields
+            .iter()
+            .any(|r| r.name == g.name && rust_type(&r.ty) == rust_type(&g.ty))
+    });
+    if goal.fields.is_empty() || !fields_match {
+        return;
+    }
+    doc_line(
+        out,
+        ind,
+        &format!("The service request of the same FB call as a [`{name}Goal`]."),
+    );
+    let _ = writeln!(
+        out,
+        "{ind}#[allow(clippy::clone_on_copy, clippy::needless_update)]\n\
+         {ind}impl From<&{name}Goal> for super::srv::{name}Request {{\n\
+         {ind}    fn from(g: &{name}Goal) -> Self {{\n\
+         {ind}        super::srv::{name}Request {{"
+    );
+    for f in &goal.fields {
+        let (id, _) = rust_ident(&f.name);
+        let _ = writeln!(out, "{ind}            {id}: g.{id}.clone(),");
+    }
+    let _ = writeln!(
+        out,
+        "{ind}            ..Default::default()\n{ind}        }}\n{ind}    }}\n{ind}}}\n"
+    );
 }
 
 fn generate_rust(packages: &[Package]) -> String {

@@ -109,16 +109,7 @@ motion_action!(
     MoveAbsoluteFeedback,
     |g: &MoveAbsoluteGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
         // The goal is the service request without the ST_MoveOptions: one decoding path.
-        crate::services::decode_move_absolute(motion_msgs::srv::MoveAbsoluteRequest {
-            axis: g.axis.clone(),
-            position: g.position,
-            velocity: g.velocity,
-            acceleration: g.acceleration,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            buffer_mode: g.buffer_mode,
-            ..Default::default()
-        })
+        crate::services::decode_move_absolute(g.into())
     }
 );
 
@@ -129,16 +120,7 @@ motion_action!(
     MoveRelativeResult,
     MoveRelativeFeedback,
     |g: &MoveRelativeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::services::decode_move_relative(motion_msgs::srv::MoveRelativeRequest {
-            axis: g.axis.clone(),
-            distance: g.distance,
-            velocity: g.velocity,
-            acceleration: g.acceleration,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            buffer_mode: g.buffer_mode,
-            ..Default::default()
-        })
+        crate::services::decode_move_relative(g.into())
     }
 );
 
@@ -149,15 +131,7 @@ motion_action!(
     MoveVelocityResult,
     MoveVelocityFeedback,
     |g: &MoveVelocityGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::services::decode_move_velocity(motion_msgs::srv::MoveVelocityRequest {
-            axis: g.axis.clone(),
-            velocity: g.velocity,
-            acceleration: g.acceleration,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            direction: g.direction,
-            buffer_mode: g.buffer_mode,
-        })
+        crate::services::decode_move_velocity(g.into())
     },
     axis,
     Some(|o: &FbOutputs| o.in_velocity)
@@ -170,19 +144,7 @@ motion_action!(
     MoveModuloResult,
     MoveModuloFeedback,
     |g: &MoveModuloGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::fbs::decode_move_modulo(motion_msgs::srv::MoveModuloRequest {
-            axis: g.axis.clone(),
-            position: g.position,
-            velocity: g.velocity,
-            acceleration: g.acceleration,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            direction: g.direction,
-            buffer_mode: g.buffer_mode,
-            enable_blending_position: g.enable_blending_position,
-            blending_position: g.blending_position,
-            ignore_position_monitoring: g.ignore_position_monitoring,
-        })
+        crate::fbs::decode_move_modulo(g.into())
     }
 );
 
@@ -203,18 +165,9 @@ motion_action!(
                 ),
             ));
         }
+        let r: motion_msgs::srv::JogRequest = g.into();
         Ok((
-            AxisCommand::Jog(axis_engine::Jog {
-                axis: g.axis.clone(),
-                jog_forward: g.jog_forward,
-                jog_backwards: g.jog_backwards,
-                mode,
-                position: g.position,
-                velocity: g.velocity,
-                acceleration: g.acceleration,
-                deceleration: g.deceleration,
-                jerk: g.jerk,
-            }),
+            crate::jog::jog_fb(&r, mode, g.jog_forward, g.jog_backwards),
             crate::services::label(&g.axis, "jog"),
         ))
     }
@@ -227,12 +180,7 @@ motion_action!(
     HaltResult,
     HaltFeedback,
     |g: &HaltGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::services::decode_halt(motion_msgs::srv::HaltRequest {
-            axis: g.axis.clone(),
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            buffer_mode: g.buffer_mode,
-        })
+        crate::services::decode_halt(g.into())
     }
 );
 
@@ -243,20 +191,7 @@ motion_action!(
     HomeResult,
     HomeFeedback,
     |g: &HomeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::fbs::home_command(
-            g.axis.clone(),
-            g.position,
-            g.use_default_position,
-            g.homing_mode,
-            g.buffer_mode,
-            g.clear_position_lag,
-            g.search_direction,
-            g.search_velocity,
-            g.sync_direction,
-            g.sync_velocity,
-            g.reference_mode,
-            g.calibration_cam,
-        )
+        crate::fbs::decode_home(g.into())
     }
 );
 
@@ -269,14 +204,7 @@ motion_action!(
     GearInResult,
     GearInFeedback,
     |g: &GearInGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::fbs::gear_in_command(
-            g.master.clone(),
-            g.slave.clone(),
-            g.ratio_numerator,
-            g.ratio_denominator,
-            [g.acceleration, g.deceleration, g.jerk],
-            g.buffer_mode,
-        )
+        crate::fbs::decode_gear_in(g.into())
     },
     slave
 );
@@ -288,16 +216,7 @@ motion_action!(
     MoveSuperImposedResult,
     MoveSuperImposedFeedback,
     |g: &MoveSuperImposedGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::fbs::move_superimposed_command(
-            g.axis.clone(),
-            g.mode,
-            g.distance,
-            g.velocity_diff,
-            [g.acceleration, g.deceleration, g.jerk],
-            g.velocity_process,
-            g.length,
-            g.abort_option,
-        )
+        crate::fbs::decode_move_superimposed(g.into())
     }
 );
 
@@ -308,21 +227,7 @@ motion_action!(
     MoveContinuousAbsoluteResult,
     MoveContinuousAbsoluteFeedback,
     |g: &MoveContinuousAbsoluteGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::fbs::decode_move_continuous_absolute(
-            motion_msgs::srv::MoveContinuousAbsoluteRequest {
-                axis: g.axis.clone(),
-                position: g.position,
-                velocity: g.velocity,
-                end_velocity: g.end_velocity,
-                acceleration: g.acceleration,
-                deceleration: g.deceleration,
-                jerk: g.jerk,
-                buffer_mode: g.buffer_mode,
-                enable_blending_position: g.enable_blending_position,
-                blending_position: g.blending_position,
-                ignore_position_monitoring: g.ignore_position_monitoring,
-            },
-        )
+        crate::fbs::decode_move_continuous_absolute(g.into())
     },
     axis,
     Some(|o: &FbOutputs| o.in_end_velocity)
@@ -335,21 +240,7 @@ motion_action!(
     MoveContinuousRelativeResult,
     MoveContinuousRelativeFeedback,
     |g: &MoveContinuousRelativeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::fbs::decode_move_continuous_relative(
-            motion_msgs::srv::MoveContinuousRelativeRequest {
-                axis: g.axis.clone(),
-                distance: g.distance,
-                velocity: g.velocity,
-                end_velocity: g.end_velocity,
-                acceleration: g.acceleration,
-                deceleration: g.deceleration,
-                jerk: g.jerk,
-                buffer_mode: g.buffer_mode,
-                enable_blending_position: g.enable_blending_position,
-                blending_position: g.blending_position,
-                ignore_position_monitoring: g.ignore_position_monitoring,
-            },
-        )
+        crate::fbs::decode_move_continuous_relative(g.into())
     },
     axis,
     Some(|o: &FbOutputs| o.in_end_velocity)
@@ -362,18 +253,7 @@ motion_action!(
     TorqueControlResult,
     TorqueControlFeedback,
     |g: &TorqueControlGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::fbs::decode_torque_control(motion_msgs::srv::TorqueControlRequest {
-            axis: g.axis.clone(),
-            continuous_update: g.continuous_update,
-            relative: g.relative,
-            torque: g.torque,
-            torque_ramp: g.torque_ramp,
-            velocity_limit_high: g.velocity_limit_high,
-            velocity_limit_low: g.velocity_limit_low,
-            buffer_mode: g.buffer_mode,
-            enable_manual_torque_start_value: g.enable_manual_torque_start_value,
-            manual_torque_start_value: g.manual_torque_start_value,
-        })
+        crate::fbs::decode_torque_control(g.into())
     },
     axis,
     Some(|o: &FbOutputs| o.in_torque)
@@ -388,16 +268,7 @@ motion_action!(
     PhasingAbsoluteResult,
     PhasingAbsoluteFeedback,
     |g: &PhasingAbsoluteGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::extensions::phasing_command(
-            false,
-            g.master.clone(),
-            g.slave.clone(),
-            false,
-            g.phase_shift,
-            g.velocity,
-            [g.acceleration, g.deceleration, g.jerk],
-            g.buffer_mode,
-        )
+        crate::extensions::decode_phasing_absolute(g.into())
     },
     slave
 );
@@ -409,16 +280,7 @@ motion_action!(
     PhasingRelativeResult,
     PhasingRelativeFeedback,
     |g: &PhasingRelativeGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::extensions::phasing_command(
-            true,
-            g.master.clone(),
-            g.slave.clone(),
-            false,
-            g.phase_shift,
-            g.velocity,
-            [g.acceleration, g.deceleration, g.jerk],
-            g.buffer_mode,
-        )
+        crate::extensions::decode_phasing_relative(g.into())
     },
     slave
 );
@@ -430,13 +292,7 @@ motion_action!(
     HaltPhasingResult,
     HaltPhasingFeedback,
     |g: &HaltPhasingGoal| -> Result<(AxisCommand, CommandLabel), Rejection> {
-        crate::extensions::halt_phasing_command(
-            g.master.clone(),
-            g.slave.clone(),
-            g.deceleration,
-            g.jerk,
-            g.buffer_mode,
-        )
+        crate::extensions::decode_halt_phasing(g.into())
     },
     slave
 );

@@ -33,99 +33,53 @@ fn raw<T>(v: impl Into<u32>, from_raw: fn(u32) -> Result<T, Rejection>) -> Resul
 
 // ---------------------------------------------------------------- phasing (§4.13)
 
-/// The fields MC_PhasingAbsolute/Relative have in their services and actions.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn phasing_command(
-    relative: bool,
-    master: String,
-    slave: String,
-    continuous_update: bool,
-    phase_shift: f64,
-    velocity: f64,
-    dynamics: [f64; 3],
-    buffer: u8,
-) -> Decoded {
-    let buffer_mode = buffer_mode(buffer)?;
-    let [acceleration, deceleration, jerk] = dynamics;
-    Ok(if relative {
-        let l = label(&slave, "phasing_relative");
-        let c = axis_engine::PhasingRelative {
-            master,
-            slave,
-            continuous_update,
-            phase_shift,
-            velocity,
-            acceleration,
-            deceleration,
-            jerk,
-            buffer_mode,
-        };
-        (AxisCommand::PhasingRelative(c), l)
-    } else {
-        let l = label(&slave, "phasing_absolute");
-        let c = axis_engine::PhasingAbsolute {
-            master,
-            slave,
-            continuous_update,
-            phase_shift,
-            velocity,
-            acceleration,
-            deceleration,
-            jerk,
-            buffer_mode,
-        };
-        (AxisCommand::PhasingAbsolute(c), l)
-    })
+/// MC_PhasingAbsolute from its service request (the action's goal converts into it).
+pub(crate) fn decode_phasing_absolute(r: PhasingAbsoluteRequest) -> Decoded {
+    let l = label(&r.slave, "phasing_absolute");
+    let c = axis_engine::PhasingAbsolute {
+        master: r.master,
+        slave: r.slave,
+        continuous_update: r.continuous_update,
+        phase_shift: r.phase_shift,
+        velocity: r.velocity,
+        acceleration: r.acceleration,
+        deceleration: r.deceleration,
+        jerk: r.jerk,
+        buffer_mode: buffer_mode(r.buffer_mode)?,
+    };
+    Ok((AxisCommand::PhasingAbsolute(c), l))
 }
 
-fn decode_phasing_absolute(r: PhasingAbsoluteRequest) -> Decoded {
-    phasing_command(
-        false,
-        r.master,
-        r.slave,
-        r.continuous_update,
-        r.phase_shift,
-        r.velocity,
-        [r.acceleration, r.deceleration, r.jerk],
-        r.buffer_mode,
-    )
+/// MC_PhasingRelative from its service request (the action's goal converts into it).
+pub(crate) fn decode_phasing_relative(r: PhasingRelativeRequest) -> Decoded {
+    let l = label(&r.slave, "phasing_relative");
+    let c = axis_engine::PhasingRelative {
+        master: r.master,
+        slave: r.slave,
+        continuous_update: r.continuous_update,
+        phase_shift: r.phase_shift,
+        velocity: r.velocity,
+        acceleration: r.acceleration,
+        deceleration: r.deceleration,
+        jerk: r.jerk,
+        buffer_mode: buffer_mode(r.buffer_mode)?,
+    };
+    Ok((AxisCommand::PhasingRelative(c), l))
 }
 
-fn decode_phasing_relative(r: PhasingRelativeRequest) -> Decoded {
-    phasing_command(
-        true,
-        r.master,
-        r.slave,
-        r.continuous_update,
-        r.phase_shift,
-        r.velocity,
-        [r.acceleration, r.deceleration, r.jerk],
-        r.buffer_mode,
-    )
-}
-
-pub(crate) fn halt_phasing_command(
-    master: String,
-    slave: String,
-    deceleration: f64,
-    jerk: f64,
-    buffer: u8,
-) -> Decoded {
-    let l = label(&slave, "halt_phasing");
+/// MC_HaltPhasing from its service request (the action's goal converts into it).
+pub(crate) fn decode_halt_phasing(r: HaltPhasingRequest) -> Decoded {
+    let l = label(&r.slave, "halt_phasing");
     Ok((
         AxisCommand::HaltPhasing(axis_engine::HaltPhasing {
-            master,
-            slave,
-            deceleration,
-            jerk,
-            buffer_mode: buffer_mode(buffer)?,
+            master: r.master,
+            slave: r.slave,
+            deceleration: r.deceleration,
+            jerk: r.jerk,
+            buffer_mode: buffer_mode(r.buffer_mode)?,
         }),
         l,
     ))
-}
-
-fn decode_halt_phasing(r: HaltPhasingRequest) -> Decoded {
-    halt_phasing_command(r.master, r.slave, r.deceleration, r.jerk, r.buffer_mode)
 }
 
 fn decode_phasing_update(r: PhasingUpdateRequest) -> Decoded {

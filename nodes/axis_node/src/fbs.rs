@@ -88,57 +88,28 @@ pub(crate) fn decode_move_continuous_relative(r: MoveContinuousRelativeRequest) 
 
 /// The fields MC_Home has in both its service and its action.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn home_command(
-    axis: String,
-    position: f64,
-    use_default_position: bool,
-    homing_mode: u8,
-    buffer: u8,
-    clear_position_lag: bool,
-    search_direction: u8,
-    search_velocity: f64,
-    sync_direction: u8,
-    sync_velocity: f64,
-    reference_mode: u32,
-    calibration_cam: bool,
-) -> Decoded {
-    let l = label(&axis, "home");
+/// MC_Home from its service request (the action's goal converts into it).
+pub(crate) fn decode_home(r: HomeRequest) -> Decoded {
+    let l = label(&r.axis, "home");
     Ok((
         AxisCommand::Home(axis_engine::Home {
-            axis,
-            position,
-            use_default_position,
-            homing_mode: raw(homing_mode, HomingMode::from_raw)?,
-            buffer_mode: buffer_mode(buffer)?,
+            axis: r.axis,
+            position: r.position,
+            use_default_position: r.use_default_position,
+            homing_mode: raw(r.homing_mode, HomingMode::from_raw)?,
+            buffer_mode: buffer_mode(r.buffer_mode)?,
             options: HomingOptions {
-                clear_position_lag,
-                search_direction: direction(search_direction)?,
-                search_velocity,
-                sync_direction: direction(sync_direction)?,
-                sync_velocity,
-                reference_mode,
+                clear_position_lag: r.clear_position_lag,
+                search_direction: direction(r.search_direction)?,
+                search_velocity: r.search_velocity,
+                sync_direction: direction(r.sync_direction)?,
+                sync_velocity: r.sync_velocity,
+                reference_mode: r.reference_mode,
             },
-            calibration_cam,
+            calibration_cam: r.calibration_cam,
         }),
         l,
     ))
-}
-
-fn decode_home(r: HomeRequest) -> Decoded {
-    home_command(
-        r.axis,
-        r.position,
-        r.use_default_position,
-        r.homing_mode,
-        r.buffer_mode,
-        r.clear_position_lag,
-        r.search_direction,
-        r.search_velocity,
-        r.sync_direction,
-        r.sync_velocity,
-        r.reference_mode,
-        r.calibration_cam,
-    )
 }
 
 fn decode_home_calibration_cam(r: HomeCalibrationCamRequest) -> Decoded {
@@ -152,39 +123,22 @@ fn decode_home_calibration_cam(r: HomeCalibrationCamRequest) -> Decoded {
     ))
 }
 
-pub(crate) fn gear_in_command(
-    master: String,
-    slave: String,
-    ratio_numerator: f64,
-    ratio_denominator: u16,
-    dynamics: [f64; 3],
-    buffer: u8,
-) -> Decoded {
-    let l = label(&slave, "gear_in");
+/// MC_GearIn from its service request (the action's goal converts into it).
+pub(crate) fn decode_gear_in(r: GearInRequest) -> Decoded {
+    let l = label(&r.slave, "gear_in");
     Ok((
         AxisCommand::GearIn(axis_engine::GearIn {
-            master,
-            slave,
-            ratio_numerator,
-            ratio_denominator: u32::from(ratio_denominator),
-            acceleration: dynamics[0],
-            deceleration: dynamics[1],
-            jerk: dynamics[2],
-            buffer_mode: buffer_mode(buffer)?,
+            master: r.master,
+            slave: r.slave,
+            ratio_numerator: r.ratio_numerator,
+            ratio_denominator: u32::from(r.ratio_denominator),
+            acceleration: r.acceleration,
+            deceleration: r.deceleration,
+            jerk: r.jerk,
+            buffer_mode: buffer_mode(r.buffer_mode)?,
         }),
         l,
     ))
-}
-
-fn decode_gear_in(r: GearInRequest) -> Decoded {
-    gear_in_command(
-        r.master,
-        r.slave,
-        r.ratio_numerator,
-        r.ratio_denominator,
-        [r.acceleration, r.deceleration, r.jerk],
-        r.buffer_mode,
-    )
 }
 
 fn decode_gear_out(r: GearOutRequest) -> Decoded {
@@ -247,47 +201,24 @@ fn decode_torque_control_update(r: TorqueControlUpdateRequest) -> Decoded {
     ))
 }
 
-/// The fields MC_MoveSuperImposed has in both its service and its action.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn move_superimposed_command(
-    axis: String,
-    mode: u8,
-    distance: f64,
-    velocity_diff: f64,
-    dynamics: [f64; 3],
-    velocity_process: f64,
-    length: f64,
-    abort_option: u8,
-) -> Decoded {
-    let l = label(&axis, "move_superimposed");
+/// MC_MoveSuperImposed from its service request (the action's goal converts into it).
+pub(crate) fn decode_move_superimposed(r: MoveSuperImposedRequest) -> Decoded {
+    let l = label(&r.axis, "move_superimposed");
     Ok((
         AxisCommand::MoveSuperImposed(axis_engine::MoveSuperImposed {
-            axis,
-            mode: raw(mode, SuperpositionMode::from_raw)?,
-            distance,
-            velocity_diff,
-            acceleration: dynamics[0],
-            deceleration: dynamics[1],
-            jerk: dynamics[2],
-            velocity_process,
-            length,
-            abort_option: raw(abort_option, SuperpositionAbortOption::from_raw)?,
+            axis: r.axis,
+            mode: raw(r.mode, SuperpositionMode::from_raw)?,
+            distance: r.distance,
+            velocity_diff: r.velocity_diff,
+            acceleration: r.acceleration,
+            deceleration: r.deceleration,
+            jerk: r.jerk,
+            velocity_process: r.velocity_process,
+            length: r.length,
+            abort_option: raw(r.abort_option, SuperpositionAbortOption::from_raw)?,
         }),
         l,
     ))
-}
-
-fn decode_move_superimposed(r: MoveSuperImposedRequest) -> Decoded {
-    move_superimposed_command(
-        r.axis,
-        r.mode,
-        r.distance,
-        r.velocity_diff,
-        [r.acceleration, r.deceleration, r.jerk],
-        r.velocity_process,
-        r.length,
-        r.abort_option,
-    )
 }
 
 fn decode_abort_superposition(r: AbortSuperpositionRequest) -> Decoded {

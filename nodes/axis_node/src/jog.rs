@@ -103,6 +103,22 @@ async fn call(
     respond(outcome)
 }
 
+/// A fresh MC_Jog instance with these button edges (the `~/jog` action's goal converts into
+/// the request).
+pub(crate) fn jog_fb(r: &JogRequest, mode: JogMode, forward: bool, backwards: bool) -> AxisCommand {
+    AxisCommand::Jog(axis_engine::Jog {
+        axis: r.axis.clone(),
+        jog_forward: forward,
+        jog_backwards: backwards,
+        mode,
+        position: r.position,
+        velocity: r.velocity,
+        acceleration: r.acceleration,
+        deceleration: r.deceleration,
+        jerk: r.jerk,
+    })
+}
+
 async fn start(
     handle: &ControllerHandle<AxisEngine>,
     registry: &motion_runtime::shell::CommandRegistry,
@@ -112,18 +128,7 @@ async fn start(
     rise_bwd: bool,
     next: &mut Buttons,
 ) -> Result<AxisReply, Rejection> {
-    let cmd = AxisCommand::Jog(axis_engine::Jog {
-        axis: r.axis.clone(),
-        jog_forward: rise_fwd,
-        jog_backwards: rise_bwd,
-        mode,
-        position: r.position,
-        velocity: r.velocity,
-        acceleration: r.acceleration,
-        deceleration: r.deceleration,
-        jerk: r.jerk,
-    });
-    let o = handle.call(cmd).await;
+    let o = handle.call(jog_fb(r, mode, rise_fwd, rise_bwd)).await;
     if let Ok(reply) = &o {
         // Forward wins on simultaneous edges (§4.11).
         next.instance = Some((reply.id, rise_fwd));

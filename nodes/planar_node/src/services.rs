@@ -30,7 +30,7 @@ pub(crate) trait MotionResponse {
 
 macro_rules! motion_response {
     ($($resp:ident),* $(,)?) => {$(
-        impl MotionResponse for $resp {
+        impl $crate::services::MotionResponse for $resp {
             fn set_warning(&mut self, warning_id: u32) {
                 self.warning_id = warning_id;
             }
@@ -41,6 +41,7 @@ macro_rules! motion_response {
         }
     )*};
 }
+pub(crate) use motion_response;
 
 motion_response!(
     MoverMoveToPositionResponse,
@@ -154,24 +155,6 @@ fn vector(v: [f64; 6]) -> MoverVector {
 
 // --- mover motions (shared with the actions) -------------------------------------------------
 
-macro_rules! decode_mtp {
-    ($name:ident, $ty:ty) => {
-        pub(crate) fn $name(r: &$ty) -> Result<(PlanarCommand, CommandLabel), Rejection> {
-            Ok((
-                PlanarCommand::MoveToPosition {
-                    mover: r.mover.clone(),
-                    target_position: PositionXYC::with_ref(r.x, r.y, r.c, r.reference_id),
-                    constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
-                    options: MoveToPositionOptions {
-                        use_orientation: r.use_orientation,
-                    },
-                },
-                label(&r.mover, "move_to_position"),
-            ))
-        }
-    };
-}
-
 macro_rules! decode_aux {
     ($name:ident, $ty:ty, $variant:ident, $cmd:literal) => {
         pub(crate) fn $name(r: &$ty) -> Result<(PlanarCommand, CommandLabel), Rejection> {
@@ -187,53 +170,60 @@ macro_rules! decode_aux {
     };
 }
 
-macro_rules! decode_move_c {
-    ($name:ident, $ty:ty) => {
-        pub(crate) fn $name(r: &$ty) -> Result<(PlanarCommand, CommandLabel), Rejection> {
-            Ok((
-                PlanarCommand::MoveC {
-                    mover: r.mover.clone(),
-                    target_position: r.target_position,
-                    constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
-                    options: MoveCOptions {
-                        additional_turns: r.additional_turns,
-                        direction: direction(&r.mover, r.direction)?,
-                    },
-                },
-                label(&r.mover, "move_c"),
-            ))
-        }
-    };
+pub(crate) fn move_to_position_req(
+    r: &MoverMoveToPositionRequest,
+) -> Result<(PlanarCommand, CommandLabel), Rejection> {
+    Ok((
+        PlanarCommand::MoveToPosition {
+            mover: r.mover.clone(),
+            target_position: PositionXYC::with_ref(r.x, r.y, r.c, r.reference_id),
+            constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
+            options: MoveToPositionOptions {
+                use_orientation: r.use_orientation,
+            },
+        },
+        label(&r.mover, "move_to_position"),
+    ))
 }
-
-decode_mtp!(move_to_position_req, MoverMoveToPositionRequest);
-decode_mtp!(
-    move_to_position_goal,
-    motion_msgs::action::MoverMoveToPositionGoal
-);
+/// The goal decodes through the service request's path.
+pub(crate) fn move_to_position_goal(g: &motion_msgs::action::MoverMoveToPositionGoal) -> Decoded {
+    move_to_position_req(&g.into())
+}
 decode_aux!(move_z_req, MoverMoveZRequest, MoveZ, "move_z");
-decode_aux!(
-    move_z_goal,
-    motion_msgs::action::MoverMoveZGoal,
-    MoveZ,
-    "move_z"
-);
+/// The goal decodes through the service request's path.
+pub(crate) fn move_z_goal(g: &motion_msgs::action::MoverMoveZGoal) -> Decoded {
+    move_z_req(&g.into())
+}
 decode_aux!(move_a_req, MoverMoveARequest, MoveA, "move_a");
-decode_aux!(
-    move_a_goal,
-    motion_msgs::action::MoverMoveAGoal,
-    MoveA,
-    "move_a"
-);
+/// The goal decodes through the service request's path.
+pub(crate) fn move_a_goal(g: &motion_msgs::action::MoverMoveAGoal) -> Decoded {
+    move_a_req(&g.into())
+}
 decode_aux!(move_b_req, MoverMoveBRequest, MoveB, "move_b");
-decode_aux!(
-    move_b_goal,
-    motion_msgs::action::MoverMoveBGoal,
-    MoveB,
-    "move_b"
-);
-decode_move_c!(move_c_req, MoverMoveCRequest);
-decode_move_c!(move_c_goal, motion_msgs::action::MoverMoveCGoal);
+/// The goal decodes through the service request's path.
+pub(crate) fn move_b_goal(g: &motion_msgs::action::MoverMoveBGoal) -> Decoded {
+    move_b_req(&g.into())
+}
+pub(crate) fn move_c_req(
+    r: &MoverMoveCRequest,
+) -> Result<(PlanarCommand, CommandLabel), Rejection> {
+    Ok((
+        PlanarCommand::MoveC {
+            mover: r.mover.clone(),
+            target_position: r.target_position,
+            constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
+            options: MoveCOptions {
+                additional_turns: r.additional_turns,
+                direction: direction(&r.mover, r.direction)?,
+            },
+        },
+        label(&r.mover, "move_c"),
+    ))
+}
+/// The goal decodes through the service request's path.
+pub(crate) fn move_c_goal(g: &motion_msgs::action::MoverMoveCGoal) -> Decoded {
+    move_c_req(&g.into())
+}
 
 pub(crate) type Decoded = Result<(PlanarCommand, CommandLabel), Rejection>;
 

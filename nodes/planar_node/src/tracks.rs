@@ -15,7 +15,7 @@
 use crate::actions::{object_info as end_object_info, pose};
 use crate::services::{
     constraint, direction, enum_error, label, object_info, position_response, respond,
-    respond_motion, Decoded, MotionResponse, Outcome,
+    respond_motion, Decoded, Outcome,
 };
 use motion_core::{CommandState, Engine, ExecuteOutputs, Rejection};
 use motion_msgs::action::{
@@ -59,113 +59,99 @@ pub(crate) fn sync_directions(mover: &str, raw: u8) -> Result<SyncDirections, Re
     }
 }
 
-macro_rules! decode_join {
-    ($name:ident, $ty:ty) => {
-        pub(crate) fn $name(r: &$ty) -> Decoded {
-            Ok((
-                PlanarCommand::JoinTrack {
-                    mover: r.mover.clone(),
-                    track: r.track.clone(),
-                    constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
-                    options: MoveToPositionOptions {
-                        use_orientation: r.use_orientation,
-                    },
-                },
-                label(&r.mover, "join_track"),
-            ))
-        }
-    };
+pub(crate) fn join_track_req(r: &MoverJoinTrackRequest) -> Decoded {
+    Ok((
+        PlanarCommand::JoinTrack {
+            mover: r.mover.clone(),
+            track: r.track.clone(),
+            constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
+            options: MoveToPositionOptions {
+                use_orientation: r.use_orientation,
+            },
+        },
+        label(&r.mover, "join_track"),
+    ))
 }
-
-macro_rules! decode_leave {
-    ($name:ident, $ty:ty) => {
-        pub(crate) fn $name(r: &$ty) -> Decoded {
-            Ok((
-                PlanarCommand::LeaveTrack {
-                    mover: r.mover.clone(),
-                    target_position: PositionXYC::with_ref(r.x, r.y, r.c, r.reference_id),
-                    constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
-                    options: MoveToPositionOptions {
-                        use_orientation: r.use_orientation,
-                    },
-                },
-                label(&r.mover, "leave_track"),
-            ))
-        }
-    };
+/// The goal decodes through the service request's path.
+pub(crate) fn join_track_goal(g: &MoverJoinTrackGoal) -> Decoded {
+    join_track_req(&g.into())
 }
-
-macro_rules! decode_move_on_track {
-    ($name:ident, $ty:ty) => {
-        pub(crate) fn $name(r: &$ty) -> Decoded {
-            Ok((
-                PlanarCommand::MoveOnTrack {
-                    mover: r.mover.clone(),
-                    track: r.track.clone(),
-                    target_position: r.target_position,
-                    constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
-                    options: MoveOnTrackOptions {
-                        gap: r.gap,
-                        direction: direction(&r.mover, r.direction)?,
-                        additional_turns: r.additional_turns,
-                        modulo_tolerance: r.modulo_tolerance,
-                    },
-                },
-                label(&r.mover, "move_on_track"),
-            ))
-        }
-    };
+pub(crate) fn leave_track_req(r: &MoverLeaveTrackRequest) -> Decoded {
+    Ok((
+        PlanarCommand::LeaveTrack {
+            mover: r.mover.clone(),
+            target_position: PositionXYC::with_ref(r.x, r.y, r.c, r.reference_id),
+            constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
+            options: MoveToPositionOptions {
+                use_orientation: r.use_orientation,
+            },
+        },
+        label(&r.mover, "leave_track"),
+    ))
 }
-
-macro_rules! decode_gear_master {
-    ($name:ident, $ty:ty) => {
-        pub(crate) fn $name(r: &$ty) -> Decoded {
-            Ok((
-                PlanarCommand::GearInPosOnTrackWithMasterMover {
-                    mover: r.mover.clone(),
-                    master_mover: r.master_mover.clone(),
-                    track_trail: r.track_trail.clone(),
-                    master_sync_position: r.master_sync_position,
-                    master_sync_position_track: r.master_sync_position_track.clone(),
-                    slave_sync_position: r.slave_sync_position,
-                    slave_sync_position_track: r.slave_sync_position_track.clone(),
-                    constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
-                    options: GearInPosOnTrackWithMasterMoverOptions {
-                        gap: r.gap,
-                        in_sync_tolerance_distance: r.in_sync_tolerance_distance,
-                        direction_slave_sync_position: direction(
-                            &r.mover,
-                            r.direction_slave_sync_position,
-                        )?,
-                        modulo_tolerance_slave_sync_position: r
-                            .modulo_tolerance_slave_sync_position,
-                        direction_master_sync_position: direction(
-                            &r.mover,
-                            r.direction_master_sync_position,
-                        )?,
-                        modulo_tolerance_master_sync_position: r
-                            .modulo_tolerance_master_sync_position,
-                        allowed_slave_sync_directions: sync_directions(
-                            &r.mover,
-                            r.allowed_slave_sync_directions,
-                        )?,
-                        follow_mover: r.follow_mover,
-                    },
-                },
-                label(&r.mover, "gear_in_pos_on_track_with_master_mover"),
-            ))
-        }
-    };
+/// The goal decodes through the service request's path.
+pub(crate) fn leave_track_goal(g: &MoverLeaveTrackGoal) -> Decoded {
+    leave_track_req(&g.into())
 }
-
-decode_join!(join_track_req, MoverJoinTrackRequest);
-decode_join!(join_track_goal, MoverJoinTrackGoal);
-decode_leave!(leave_track_req, MoverLeaveTrackRequest);
-decode_leave!(leave_track_goal, MoverLeaveTrackGoal);
-decode_move_on_track!(move_on_track_req, MoverMoveOnTrackRequest);
-decode_move_on_track!(move_on_track_goal, MoverMoveOnTrackGoal);
-decode_gear_master!(gear_master_req, MoverGearInPosOnTrackWithMasterMoverRequest);
-decode_gear_master!(gear_master_goal, MoverGearInPosOnTrackWithMasterMoverGoal);
+pub(crate) fn move_on_track_req(r: &MoverMoveOnTrackRequest) -> Decoded {
+    Ok((
+        PlanarCommand::MoveOnTrack {
+            mover: r.mover.clone(),
+            track: r.track.clone(),
+            target_position: r.target_position,
+            constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
+            options: MoveOnTrackOptions {
+                gap: r.gap,
+                direction: direction(&r.mover, r.direction)?,
+                additional_turns: r.additional_turns,
+                modulo_tolerance: r.modulo_tolerance,
+            },
+        },
+        label(&r.mover, "move_on_track"),
+    ))
+}
+/// The goal decodes through the service request's path.
+pub(crate) fn move_on_track_goal(g: &MoverMoveOnTrackGoal) -> Decoded {
+    move_on_track_req(&g.into())
+}
+pub(crate) fn gear_master_req(r: &MoverGearInPosOnTrackWithMasterMoverRequest) -> Decoded {
+    Ok((
+        PlanarCommand::GearInPosOnTrackWithMasterMover {
+            mover: r.mover.clone(),
+            master_mover: r.master_mover.clone(),
+            track_trail: r.track_trail.clone(),
+            master_sync_position: r.master_sync_position,
+            master_sync_position_track: r.master_sync_position_track.clone(),
+            slave_sync_position: r.slave_sync_position,
+            slave_sync_position_track: r.slave_sync_position_track.clone(),
+            constraint: constraint(r.velocity, r.acceleration, r.deceleration, r.jerk),
+            options: GearInPosOnTrackWithMasterMoverOptions {
+                gap: r.gap,
+                in_sync_tolerance_distance: r.in_sync_tolerance_distance,
+                direction_slave_sync_position: direction(
+                    &r.mover,
+                    r.direction_slave_sync_position,
+                )?,
+                modulo_tolerance_slave_sync_position: r.modulo_tolerance_slave_sync_position,
+                direction_master_sync_position: direction(
+                    &r.mover,
+                    r.direction_master_sync_position,
+                )?,
+                modulo_tolerance_master_sync_position: r.modulo_tolerance_master_sync_position,
+                allowed_slave_sync_directions: sync_directions(
+                    &r.mover,
+                    r.allowed_slave_sync_directions,
+                )?,
+                follow_mover: r.follow_mover,
+            },
+        },
+        label(&r.mover, "gear_in_pos_on_track_with_master_mover"),
+    ))
+}
+/// The goal decodes through the service request's path.
+pub(crate) fn gear_master_goal(g: &MoverGearInPosOnTrackWithMasterMoverGoal) -> Decoded {
+    gear_master_req(&g.into())
+}
 
 pub(crate) fn adopt_req(r: &MoverAdoptTrackOrientationRequest) -> Decoded {
     Ok((
@@ -209,21 +195,7 @@ pub(crate) fn gear_axis_req(r: &MoverGearInPosOnTrackRequest) -> Decoded {
     ))
 }
 
-macro_rules! motion_response {
-    ($($resp:ident),* $(,)?) => {$(
-        impl MotionResponse for $resp {
-            fn set_warning(&mut self, warning_id: u32) {
-                self.warning_id = warning_id;
-            }
-            fn set_object(&mut self, object_type: u16, object_id: u32) {
-                self.object_type = object_type;
-                self.object_id = object_id;
-            }
-        }
-    )*};
-}
-
-motion_response!(
+crate::services::motion_response!(
     MoverJoinTrackResponse,
     MoverLeaveTrackResponse,
     MoverMoveOnTrackResponse,
