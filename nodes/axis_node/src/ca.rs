@@ -400,21 +400,13 @@ where
     Resp: ros2_client::Message + Send + Sync + 'static,
 {
     let ctx = ctx.clone();
-    let registry = shell.registry.clone();
     let path = format!("ca/{}/{name}", ctx.group);
     shell.service::<Req, Resp, _, _>(&path, ty, move |req: Req| {
         let ctx = ctx.clone();
-        let registry = registry.clone();
         async move {
             let o = match decode(&ctx, req) {
                 Err(r) => Err(r),
-                Ok((cmd, label)) => {
-                    let o = ctx.handle.call(cmd).await;
-                    if let Some(id) = o.as_ref().ok().and_then(AxisEngine::reply_id) {
-                        registry.insert(id, label);
-                    }
-                    o
-                }
+                Ok((cmd, label)) => ctx.handle.call_labeled(cmd, label).await,
             };
             respond(o)
         }
@@ -471,22 +463,17 @@ fn register_group(
         ("reset_diagnostics", "reset_diagnostics"),
     ] {
         let ctx = ctx.clone();
-        let registry = shell.registry.clone();
         let make = group_block(name);
         shell.service::<CaGroupCommandRequest, CaGroupCommandResponse, _, _>(
             &format!("ca/{}/{name}", ctx.group),
             CaGroupCommand::service_type_name(),
             move |_r| {
                 let ctx = ctx.clone();
-                let registry = registry.clone();
                 async move {
                     let o = ctx
                         .handle
-                        .call(AxisCommand::Ca(make(ctx.group.clone())))
+                        .call_labeled(AxisCommand::Ca(make(ctx.group.clone())), ctx.label(fb))
                         .await;
-                    if let Some(id) = o.as_ref().ok().and_then(AxisEngine::reply_id) {
-                        registry.insert(id, ctx.label(fb));
-                    }
                     answer::<CaGroupCommandResponse>(&o)
                 }
             },

@@ -545,22 +545,12 @@ where
     Resp: ros2_client::Message + Send + Sync + 'static,
 {
     let handle = shell.handle.clone();
-    let registry = shell.registry.clone();
     shell.service::<Req, Resp, _, _>(name, ty, move |r: Req| {
         let handle = handle.clone();
-        let registry = registry.clone();
         async move {
             let en = enable(&r);
             let o = match decode(r) {
-                Ok((cmd, l)) => {
-                    let o = handle.call(cmd).await;
-                    if let Ok(reply) = &o {
-                        if reply.tracked {
-                            registry.insert(reply.id, l);
-                        }
-                    }
-                    o
-                }
+                Ok((cmd, l)) => handle.call_labeled(cmd, l).await,
                 Err(e) => Err(e),
             };
             let enabled = en && o.is_ok();
@@ -640,10 +630,8 @@ where
     Resp: ros2_client::Message + Send + Sync + 'static,
 {
     let handle = shell.handle.clone();
-    let registry = shell.registry.clone();
     shell.service::<Req, Resp, _, _>(name, ty, move |r: Req| {
         let handle = handle.clone();
-        let registry = registry.clone();
         let persistence = persistence.clone();
         async move {
             let o = match decode(r) {
@@ -659,11 +647,8 @@ where
                         )),
                         _ => None,
                     };
-                    let o = handle.call(cmd).await;
-                    if let Ok(reply) = &o {
-                        if reply.tracked {
-                            registry.insert(reply.id, l);
-                        }
+                    let o = handle.call_labeled(cmd, l).await;
+                    if o.is_ok() {
                         if let Some((axis, n, v)) = entry {
                             persistence.record(&axis, n, v);
                         }

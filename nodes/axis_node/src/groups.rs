@@ -100,24 +100,19 @@ where
     A: Fn(Outcome, f64) -> Resp + Send + Sync + 'static,
 {
     let handle = shell.handle.clone();
-    let registry = shell.registry.clone();
     let g = group.to_string();
     let decode = Arc::new(decode);
     let answer = Arc::new(answer);
     shell.service::<Req, Resp, _, _>(&format!("groups/{group}/{fb}"), ty, move |req: Req| {
-        let (handle, registry, g) = (handle.clone(), registry.clone(), g.clone());
+        let (handle, g) = (handle.clone(), g.clone());
         let (decode, answer) = (decode.clone(), answer.clone());
         async move {
             let o = match decode(g.clone(), req) {
                 Err(r) => Err(r),
                 Ok(cmd) => {
-                    let r = handle.call(AxisCommand::Group(cmd)).await;
-                    if let Ok(reply) = &r {
-                        if reply.tracked {
-                            registry.insert(reply.id, label(&g, fb));
-                        }
-                    }
-                    r
+                    handle
+                        .call_labeled(AxisCommand::Group(cmd), label(&g, fb))
+                        .await
                 }
             };
             answer(o, handle.snapshot().sim_time)
@@ -324,14 +319,12 @@ fn register_reads(shell: &mut NodeShell<AxisEngine>, group: &str) -> Result<(), 
 fn register_group_stop(shell: &mut NodeShell<AxisEngine>, group: &str) -> Result<(), ShellError> {
     let latest: Arc<Mutex<Option<CmdId>>> = Arc::default();
     let handle = shell.handle.clone();
-    let registry = shell.registry.clone();
     let g = group.to_string();
     shell.service::<AxesGroupStopRequest, AxesGroupStopResponse, _, _>(
         &format!("groups/{group}/group_stop"),
         AxesGroupStop::service_type_name(),
         move |r: AxesGroupStopRequest| {
-            let (handle, registry, latest, g) =
-                (handle.clone(), registry.clone(), latest.clone(), g.clone());
+            let (handle, latest, g) = (handle.clone(), latest.clone(), g.clone());
             async move {
                 let outcome = if r.execute {
                     let cmd = AxisCommand::Group(GroupCommand::GroupStop(GroupStop {
@@ -339,10 +332,9 @@ fn register_group_stop(shell: &mut NodeShell<AxisEngine>, group: &str) -> Result
                         deceleration: r.deceleration,
                         jerk: r.jerk,
                     }));
-                    let o = handle.call(cmd).await;
+                    let o = handle.call_labeled(cmd, label(&g, "group_stop")).await;
                     if let Ok(reply) = &o {
                         *latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(reply.id);
-                        registry.insert(reply.id, label(&g, "group_stop"));
                     }
                     o
                 } else {

@@ -36,7 +36,6 @@ async fn busy(handle: &ControllerHandle<AxisEngine>, id: CmdId) -> bool {
 
 async fn call(
     handle: &ControllerHandle<AxisEngine>,
-    registry: &motion_runtime::shell::CommandRegistry,
     held: &mut HashMap<String, Buttons>,
     r: JogRequest,
 ) -> JogResponse {
@@ -97,7 +96,7 @@ async fn call(
                 return resp;
             }
         }
-        start(handle, registry, &r, mode, rise_fwd, rise_bwd, &mut next).await
+        start(handle, &r, mode, rise_fwd, rise_bwd, &mut next).await
     };
     held.insert(r.axis.clone(), next);
     respond(outcome)
@@ -121,27 +120,25 @@ pub(crate) fn jog_fb(r: &JogRequest, mode: JogMode, forward: bool, backwards: bo
 
 async fn start(
     handle: &ControllerHandle<AxisEngine>,
-    registry: &motion_runtime::shell::CommandRegistry,
     r: &JogRequest,
     mode: JogMode,
     rise_fwd: bool,
     rise_bwd: bool,
     next: &mut Buttons,
 ) -> Result<AxisReply, Rejection> {
-    let o = handle.call(jog_fb(r, mode, rise_fwd, rise_bwd)).await;
+    let label = crate::services::label(&r.axis, "jog");
+    let o = handle
+        .call_labeled(jog_fb(r, mode, rise_fwd, rise_bwd), label)
+        .await;
     if let Ok(reply) = &o {
         // Forward wins on simultaneous edges (§4.11).
         next.instance = Some((reply.id, rise_fwd));
-        if reply.tracked {
-            registry.insert(reply.id, crate::services::label(&r.axis, "jog"));
-        }
     }
     o
 }
 
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     let handle = shell.handle.clone();
-    let registry = shell.registry.clone();
     // One call at a time: the levels of a call depend on the previous one.
     let held: Arc<tokio::sync::Mutex<HashMap<String, Buttons>>> = Arc::default();
     shell.service::<JogRequest, JogResponse, _, _>(
@@ -149,11 +146,10 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
         Jog::service_type_name(),
         move |r: JogRequest| {
             let handle = handle.clone();
-            let registry = registry.clone();
             let held = held.clone();
             async move {
                 let mut held = held.lock().await;
-                call(&handle, &registry, &mut held, r).await
+                call(&handle, &mut held, r).await
             }
         },
     )

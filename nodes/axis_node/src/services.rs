@@ -296,14 +296,12 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
 fn register_stop(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     let latest: Arc<Mutex<HashMap<String, CmdId>>> = Arc::default();
     let handle = shell.handle.clone();
-    let registry = shell.registry.clone();
     shell.service::<StopRequest, StopResponse, _, _>(
         "stop",
         Stop::service_type_name(),
         move |r: StopRequest| {
             let handle = handle.clone();
             let latest = latest.clone();
-            let registry = registry.clone();
             async move {
                 let outcome = if r.execute {
                     let cmd = AxisCommand::Stop(axis_engine::Stop {
@@ -312,13 +310,12 @@ fn register_stop(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
                         jerk: r.jerk,
                         options: MoveOptions::default(),
                     });
-                    let o = handle.call(cmd).await;
+                    let o = handle.call_labeled(cmd, label(&r.axis, "stop")).await;
                     if let Ok(reply) = &o {
                         latest
                             .lock()
                             .unwrap_or_else(|e| e.into_inner())
                             .insert(r.axis.clone(), reply.id);
-                        registry.insert(reply.id, label(&r.axis, "stop"));
                     }
                     o
                 } else {

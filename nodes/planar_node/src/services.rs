@@ -673,25 +673,17 @@ fn register_environment(
         Resp: ros2_client::Message + Send + Sync + 'static,
     {
         let handle = shell.handle.clone();
-        let registry = shell.registry.clone();
         let env_name = env_name.to_string();
         shell.service::<Req, Resp, _, _>(name, type_name, move |req: Req| {
             let handle = handle.clone();
-            let registry = registry.clone();
             let env_name = env_name.clone();
             async move {
                 let (named, cmd) = decode(req);
                 let outcome = if !named.is_empty() && named != env_name {
                     Err(Rejection::unknown_object("environment", &named))
                 } else {
-                    let r = handle.call(cmd).await;
-                    if let Ok(reply) = &r {
-                        registry.insert(
-                            reply.id,
-                            label(&env_name, name.trim_start_matches("environment_")),
-                        );
-                    }
-                    r
+                    let l = label(&env_name, name.trim_start_matches("environment_"));
+                    handle.call_labeled(cmd, l).await
                 };
                 respond(outcome)
             }

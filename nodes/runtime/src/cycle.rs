@@ -8,6 +8,7 @@
 //! bounded queue (full = an immediate rejection), replies and events leave through non-blocking
 //! channels, snapshots through a `watch` channel (a short lock, never held across DDS calls).
 
+use crate::shell::{CommandLabel, CommandRegistry};
 use crate::stats::{CycleStats, StatsRecorder};
 use motion_core::{CmdId, CommandEvent, Engine, ErrorId, Rejection, Tick};
 use std::collections::{HashMap, VecDeque};
@@ -78,6 +79,8 @@ enum Request<E: Engine> {
         cmd: E::Command,
         reply: CommandReply<E>,
         watcher: Option<tmpsc::UnboundedSender<CommandEvent>>,
+        /// Registered in the cycle at acceptance, before the command's first event.
+        label: Option<CommandLabel>,
     },
     Cancel {
         id: CmdId,
@@ -102,6 +105,7 @@ pub struct ControllerHandle<E: Engine> {
     stats: Arc<Mutex<CycleStats>>,
     config: Arc<CycleConfig>,
     stop: Arc<AtomicBool>,
+    labels: Arc<CommandRegistry>,
 }
 
 impl<E: Engine> Clone for ControllerHandle<E> {
@@ -114,6 +118,7 @@ impl<E: Engine> Clone for ControllerHandle<E> {
             stats: self.stats.clone(),
             config: self.config.clone(),
             stop: self.stop.clone(),
+            labels: self.labels.clone(),
         }
     }
 }
@@ -180,6 +185,7 @@ impl<E: Engine> Controller<E> {
         )));
         let stop = Arc::new(AtomicBool::new(false));
         let wake = Arc::new(Wake::default());
+        let labels = Arc::new(CommandRegistry::default());
         let config = Arc::new(config);
         let mut cycle = CycleThread {
             engine,
@@ -193,6 +199,7 @@ impl<E: Engine> Controller<E> {
             stats: stats.clone(),
             config: config.clone(),
             reply_id,
+            labels: labels.clone(),
             cycle: 0,
             stop: stop.clone(),
             wake: wake.clone(),
@@ -212,6 +219,7 @@ impl<E: Engine> Controller<E> {
             stats,
             config,
             stop,
+            labels,
         };
         Ok((
             Controller {
@@ -253,11 +261,21 @@ impl<E: Engine> ControllerHandle<E> {
         cmd: E::Command,
         watcher: Option<tmpsc::UnboundedSender<CommandEvent>>,
     ) -> Result<oneshot::Receiver<Result<E::Reply, Rejection>>, Rejection> {
+        self.submit_labeled(cmd, watcher, None)
+    }
+
+    fn submit_labeled(
+        &self,
+        cmd: E::Command,
+        watcher: Option<tmpsc::UnboundedSender<CommandEvent>>,
+        label: Option<CommandLabel>,
+    ) -> Result<oneshot::Receiver<Result<E::Reply, Rejection>>, Rejection> {
         let (reply, rx) = oneshot::channel();
         self.push(Request::Command {
             cmd,
             reply,
             watcher,
+            label,
         })?;
         Ok(rx)
     }
@@ -268,13 +286,31 @@ impl<E: Engine> ControllerHandle<E> {
         rx.await.unwrap_or_else(|_| Err(not_running()))
     }
 
-    /// Submits a command and, once accepted, returns its events (Busy/Active/.../final state).
+    /// [`Self::call`] with the label its events carry on `~/command_status`: the cycle
+    /// registers it when it accepts the command, so no event goes out unlabeled.
+    pub async fn call_labeled(
+        &self,
+        cmd: E::Command,
+        label: CommandLabel,
+    ) -> Result<E::Reply, Rejection> {
+        let rx = self.submit_labeled(cmd, None, Some(label))?;
+        rx.await.unwrap_or_else(|_| Err(not_running()))
+    }
+
+    /// The labels of running commands (shared with the cycle).
+    pub fn labels(&self) -> Arc<CommandRegistry> {
+        self.labels.clone()
+    }
+
+    /// Submits a command and, once accepted, returns its events (Busy/Active/.../final state);
+    /// `label` as in [`Self::call_labeled`].
     pub async fn call_watched(
         &self,
         cmd: E::Command,
+        label: Option<CommandLabel>,
     ) -> Result<(E::Reply, tmpsc::UnboundedReceiver<CommandEvent>), Rejection> {
         let (tx, rx_events) = tmpsc::unbounded_channel();
-        let rx = self.submit(cmd, Some(tx))?;
+        let rx = self.submit_labeled(cmd, Some(tx), label)?;
         let reply = rx.await.unwrap_or_else(|_| Err(not_running()))?;
         Ok((reply, rx_events))
     }
@@ -371,6 +407,7 @@ struct CycleThread<E: Engine> {
     stats: Arc<Mutex<CycleStats>>,
     config: Arc<CycleConfig>,
     reply_id: ReplyId<E>,
+    labels: Arc<CommandRegistry>,
     cycle: u64,
     stop: Arc<AtomicBool>,
     wake: Arc<Wake>,
@@ -499,11 +536,15 @@ impl<E: Engine> CycleThread<E> {
                 cmd,
                 reply,
                 watcher,
+                label,
             } => {
                 let result = self.engine.command(cmd);
-                if let (Ok(r), Some(w)) = (&result, watcher) {
-                    if let Some(id) = (self.reply_id)(r) {
+                if let Some(id) = result.as_ref().ok().and_then(self.reply_id) {
+                    if let Some(w) = watcher {
                         self.watchers.insert(id, w);
+                    }
+                    if let Some(l) = label {
+                        self.labels.insert(id, l);
                     }
                 }
                 let _ = reply.send(result);

@@ -302,9 +302,9 @@ where
         running.store(true, std::sync::atomic::Ordering::SeqCst);
         Ok(NodeShell {
             node,
+            registry: handle.labels(),
             handle,
             settings,
-            registry: Arc::new(CommandRegistry::default()),
             tasks: TaskSet::default(),
             spinner: None,
         })
@@ -524,22 +524,12 @@ where
         E::Reply: Send,
     {
         let handle = self.handle.clone();
-        let registry = self.registry.clone();
         self.service::<Req, Resp, _, _>(name, type_name, move |req: Req| {
             let handle = handle.clone();
-            let registry = registry.clone();
             async move {
                 let result = match decode(req) {
                     Err(r) => Err(r),
-                    Ok((cmd, label)) => {
-                        let r = handle.call(cmd).await;
-                        if let Ok(reply) = &r {
-                            if let Some(id) = E::reply_id(reply) {
-                                registry.insert(id, label);
-                            }
-                        }
-                        r
-                    }
+                    Ok((cmd, label)) => handle.call_labeled(cmd, label).await,
                 };
                 respond(result)
             }
@@ -624,7 +614,6 @@ where
         }
 
         let handle = self.handle.clone();
-        let registry = self.registry.clone();
         let aname = name.to_string();
         let children = self.tasks.clone();
         self.tasks.spawn(async move {
@@ -642,7 +631,6 @@ where
                 let server = server.clone();
                 let binding = binding.clone();
                 let handle = handle.clone();
-                let registry = registry.clone();
                 let goals = goals.clone();
                 let canceled = canceled.clone();
                 let result_lock = result_lock.clone();
@@ -668,7 +656,6 @@ where
                         &goal,
                         goal_id,
                         &handle,
-                        &registry,
                         &goals,
                         &canceled,
                         &server,
@@ -869,7 +856,6 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
     goal: &B::Goal,
     goal_id: ros2_client::action::GoalId,
     handle: &ControllerHandle<E>,
-    registry: &CommandRegistry,
     goals: &Mutex<BTreeMap<ros2_client::action::GoalId, CmdId>>,
     canceled: &Mutex<BTreeSet<ros2_client::action::GoalId>>,
     server: &AsyncActionServer<B::Goal, B::Result, B::Feedback>,
@@ -887,7 +873,7 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
         Ok(c) => c,
         Err(r) => return refused(r),
     };
-    let (reply, mut events) = match handle.call_watched(cmd).await {
+    let (reply, mut events) = match handle.call_watched(cmd, Some(label)).await {
         Ok(x) => x,
         Err(r) => return refused(r),
     };
@@ -898,7 +884,6 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
             binding.result_of(goal, None, &handle.snapshot(), CommandState::Done, None),
         );
     };
-    registry.insert(id, label);
     goals
         .lock()
         .unwrap_or_else(|e| e.into_inner())

@@ -179,7 +179,7 @@ fn events_reach_the_watcher_and_the_status_stream() {
     rt().block_on(async {
         let (ctl, mut all) = Controller::spawn(counter(), lockstep(0.001, 8), |r| *r).unwrap();
         let h = ctl.handle();
-        let fut = h.call_watched(Cmd::Move(5));
+        let fut = h.call_watched(Cmd::Move(5), None);
         let stepper = async {
             h.step(1).await.unwrap();
         };
