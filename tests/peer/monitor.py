@@ -20,7 +20,8 @@ TOPICS = [
     ("/axis_node/axis_states", "motion_msgs/msg/AxisStateArray",
      lambda m: "axes: " + ", ".join(f"{a.name} state {a.motion_state} pos {a.act_pos:9.3f}" for a in m.axes)),
     ("/planar_node/state", "motion_msgs/msg/PlanarState",
-     lambda m: "movers: " + ", ".join(f"{v.name} ({v.x:.1f}, {v.y:.1f})" for v in m.movers)),
+     lambda m: "movers: " + ", ".join(f"{v.name} ({v.x:.1f}, {v.y:.1f})" + (f" on {v.track}" if v.track else "")
+                                      for v in m.movers)),
     ("/pickplace_node/state", "motion_msgs/msg/PickPlaceState",
      lambda m: f"pick&place: state {m.state} tcp ({m.tcp_x:.1f}, {m.tcp_y:.1f}, {m.tcp_z:.1f}) belts {len(m.belts)}"),
 ]
@@ -107,33 +108,55 @@ class AxisDriver:
 
 
 class PlanarDriver:
-    """Enables the demo movers of /planar_node and shuttles m1 and m3 between y 120 and 360."""
+    """Enables the demo movers and the track ring of /planar_node (built from the launch
+    config), joins m1 and m3 to the ring and sends them half a lap on opposite sides every
+    5 s; shuttles the free movers m2 and m4 along the top row."""
+
+    RING = ("bottom", "right", "top", "left")
+    # (m1 target, m3 target): (track, arc length), alternating; both always drive forwards.
+    LEGS = ((("bottom", 180.0), ("top", 410.0)), (("top", 410.0), ("bottom", 180.0)))
 
     def __init__(self, peer):
         self.peer = peer
-        self.ready = False
-        self.y = 360.0
+        self.stage = 0
+        self.leg = 0
+        self.shuttle = 0
         self.last = 0.0
+
+    def call(self, srv, **kw):
+        r = srv.call(**kw)
+        if not r.accepted:
+            print(f"planar {kw}: rejected {r.error_id:#x} {r.message}", flush=True)
 
     def tick(self):
         try:
-            if not self.ready:
+            if self.stage == 0:
                 if "motion_msgs/srv/MoverEnable" not in [k.rsplit("_", 1)[0] for k in self.peer.types]:
                     return
-                self.enable = self.peer.service("/planar_node/mover_enable", "motion_msgs/srv/MoverEnable")
-                self.move = self.peer.service("/planar_node/mover_move_to_position", "motion_msgs/srv/MoverMoveToPosition")
-                self.enable.wait_for_server(5)
-                self.move.wait_for_server(5)
+                svc = lambda name, ty: self.peer.service(f"/planar_node/{name}", f"motion_msgs/srv/{ty}")
+                self.enable = svc("mover_enable", "MoverEnable")
+                self.move = svc("mover_move_to_position", "MoverMoveToPosition")
+                self.track_enable = svc("track_enable", "TrackEnable")
+                self.join = svc("mover_join_track", "MoverJoinTrack")
+                self.move_on = svc("mover_move_on_track", "MoverMoveOnTrack")
+                for s in (self.enable, self.move, self.track_enable, self.join, self.move_on):
+                    s.wait_for_server(5)
+                for t in self.RING:
+                    self.call(self.track_enable, track=t)
                 for m in ("m1", "m2", "m3", "m4"):
-                    self.enable.call(mover=m)
-                self.ready = True
-                self.last = time.monotonic()
-            if time.monotonic() - self.last > 4.0:
-                for m, x in (("m1", 120.0), ("m3", 600.0)):
-                    r = self.move.call(mover=m, x=x, y=self.y, c=0.0)
-                    if not r.accepted:
-                        print(f"mover_move_to_position {m}: rejected {r.error_id:#x} {r.message}", flush=True)
-                self.y = 480.0 - self.y
+                    self.call(self.enable, mover=m)
+                self.stage, self.last = 1, time.monotonic()
+            elif self.stage == 1 and time.monotonic() - self.last > 1.0:
+                for m, t in (("m1", "left"), ("m3", "bottom")):
+                    self.call(self.join, mover=m, track=t)
+                self.stage, self.last = 2, time.monotonic()
+            elif self.stage == 2 and time.monotonic() - self.last > 5.0:
+                for m, (t, s) in zip(("m1", "m3"), self.LEGS[self.leg]):
+                    self.call(self.move_on, mover=m, track=t, target_position=s)
+                self.leg = 1 - self.leg
+                for m, xs in (("m2", (120.0, 360.0)), ("m4", (600.0, 840.0))):
+                    self.call(self.move, mover=m, x=xs[self.shuttle], y=630.0, c=0.0)
+                self.shuttle = 1 - self.shuttle
                 self.last = time.monotonic()
         except (TimeoutError, KeyError) as e:
             print(f"(planar driver waiting: {e})", flush=True)

@@ -63,6 +63,93 @@ fn demo_config_has_all_three_nodes() {
     }
 }
 
+/// The demo's planar ring (tracks from the launch config, xplanar.md §1.6): four tracks
+/// linked around the lower two rows of the table; m1 and m3 join it and ride half a lap on
+/// opposite sides, as the demo driver (tests/peer/monitor.py) does.
+#[test]
+fn demo_planar_ring_carries_the_movers() {
+    use motion_core::{CommandState, Engine, Tick};
+    use planar_engine::{PlanarCommand, PlanarEngine};
+    let entries = motion_runtime::launch::load(
+        &workspace().join("launch-configs/demo.yaml"),
+        motion_launch::KINDS,
+    )
+    .unwrap();
+    let e = entries
+        .into_iter()
+        .find(|e| e.kind == "planar_node")
+        .unwrap();
+    let cfg = planar_node::config_from_yaml(e.engine, 0.001, &e.location).unwrap();
+    let mut eng = PlanarEngine::new(cfg).unwrap();
+    let ring = ["bottom", "right", "top", "left"];
+    let run = |eng: &mut PlanarEngine, secs: f64, events: &mut Vec<_>| {
+        for i in 0..(secs / 0.001) as u64 {
+            eng.step(
+                Tick {
+                    index: i,
+                    dt: 0.001,
+                },
+                events,
+            );
+        }
+    };
+    let mut events = vec![];
+    for (k, t) in ring.iter().enumerate() {
+        let s = eng.snapshot();
+        let tr = s.track(t).unwrap();
+        assert!(tr.length > 0.0, "{t} built");
+        assert_eq!(tr.subsequent_tracks, vec![ring[(k + 1) % 4]], "{t} ring");
+        eng.command(PlanarCommand::TrackEnable {
+            track: t.to_string(),
+        })
+        .unwrap();
+    }
+    for m in ["m1", "m2", "m3", "m4"] {
+        eng.command(PlanarCommand::MoverEnable { mover: m.into() })
+            .unwrap();
+    }
+    run(&mut eng, 0.5, &mut events);
+    for (m, t) in [("m1", "left"), ("m3", "bottom")] {
+        eng.command(PlanarCommand::JoinTrack {
+            mover: m.into(),
+            track: t.into(),
+            constraint: Default::default(),
+            options: Default::default(),
+        })
+        .unwrap_or_else(|e| panic!("{m} joins {t}: {e}"));
+    }
+    run(&mut eng, 3.0, &mut events);
+    // Two half laps: m1 and m3 swap sides, both driving forwards.
+    for legs in [
+        [("m1", "bottom", 180.0), ("m3", "top", 410.0)],
+        [("m1", "top", 410.0), ("m3", "bottom", 180.0)],
+    ] {
+        let mut ids = vec![];
+        for (m, t, x) in legs {
+            let r = eng
+                .command(PlanarCommand::MoveOnTrack {
+                    mover: m.into(),
+                    track: t.into(),
+                    target_position: x,
+                    constraint: Default::default(),
+                    options: Default::default(),
+                })
+                .unwrap_or_else(|e| panic!("{m} to {t}: {e}"));
+            ids.push((m, t, x, r.id));
+        }
+        events.clear();
+        run(&mut eng, 6.0, &mut events);
+        let s = eng.snapshot();
+        for (m, t, x, id) in ids {
+            let last = events.iter().rev().find(|e| e.id == id).map(|e| e.state);
+            assert_eq!(last, Some(CommandState::Done), "{m} to {t}");
+            let on = s.mover(m).unwrap().on_track.clone().expect("on track");
+            assert_eq!(on.track, t, "{m}");
+            assert!((on.set_pos - x).abs() < 0.1, "{m}: {on:?}");
+        }
+    }
+}
+
 /// Each bad config: (file text, what the message must name).
 const BAD: &[(&str, &[&str])] = &[
     (
@@ -88,6 +175,10 @@ const BAD: &[(&str, &[&str])] = &[
     (
         "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n    service_mapping: zenoh\n",
         &["service_mapping", "zenoh"],
+    ),
+    (
+        "nodes:\n  - kind: planar_node\n    tracks: [{name: t, geometry: [{line: {start: [0, 0], end: [0, 0]}}]}]\n",
+        &["nodes[0] (planar_node)", "0x4A0A", "E_GEOMETRY_INVALID", "tracks[0].geometry[0]", "track 't'"],
     ),
 ];
 

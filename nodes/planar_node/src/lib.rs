@@ -43,8 +43,9 @@ pub const NODE_KIND: NodeKind = NodeKind {
 pub type PlanarNode = NodeHost<PlanarEngine>;
 
 /// Reads the engine part of a `planar_node` entry (xplanar.md §1.12: `coordinate_systems`,
-/// `parts`, `environment`, `movers`, `groups`, `tracks` (`{name, oid, part_oid}`; the
-/// geometry comes from the `~/track_*` services), `axes` (virtual master axes `{name, oid}`),
+/// `parts`, `environment`, `movers`, `groups`, `tracks` (`{name, oid, part_oid}` and the
+/// §1.6 init parameters `starts_from`, `geometry`, `ends_at`, `closed_loop`, built at start-up
+/// as the `~/track_*` services would), `axes` (virtual master axes `{name, oid}`),
 /// state-transition times). The engine's
 /// `cycle_time` is the node's `cycle_period`: it may be left out, and if given must match.
 pub fn config_from_yaml(
@@ -75,9 +76,10 @@ pub fn config_from_yaml(
 }
 
 fn engine(cfg: PlanarConfig, location: &str) -> Result<PlanarEngine, ConfigError> {
+    // The message carries the spec's error id (e.g. a track's init geometry, §6.2).
     PlanarEngine::new(cfg).map_err(|r| ConfigError {
         location: location.to_string(),
-        message: r.message,
+        message: r.to_string(),
     })
 }
 
@@ -202,13 +204,40 @@ mod tests {
         assert_eq!(c.tracks[1].oid, 0x01010301);
         assert_eq!(c.axes[0].name, "v1");
         let e = config_from_yaml(
-            yaml("tracks: [{name: t, geometry: []}]"),
+            yaml("tracks: [{name: t, geometrie: []}]"),
             0.001,
             "f: nodes[0]",
         )
         .unwrap_err();
-        assert!(e.to_string().contains("geometry"), "{e}");
+        assert!(e.to_string().contains("geometrie"), "{e}");
         assert!(e.location.starts_with("f: nodes[0]"), "{e}");
         assert!(check(yaml("tracks: [{name: t}, {name: t}]"), "f").is_err());
+    }
+
+    #[test]
+    fn track_init_geometry_errors_carry_the_id_key_and_track() {
+        let ok = "tracks: [{name: a, geometry: [{line: {start: [0, 0], end: [100, 0]}}]}, \
+                  {name: b, starts_from: [a], geometry: [{circle: {start: [300, 100], end: [300, 100], center: [300, 200]}}]}]";
+        assert!(check(yaml(ok), "f").is_ok());
+        let e = check(
+            yaml("tracks: [{name: a, geometry: [{line: {start: [0, 0], end: [0, 0]}}]}]"),
+            "f: nodes[1] (planar_node)",
+        )
+        .unwrap_err();
+        assert_eq!(e.location, "f: nodes[1] (planar_node)");
+        for n in [
+            "0x4A0A",
+            "E_GEOMETRY_INVALID",
+            "tracks[0].geometry[0]",
+            "track 'a'",
+        ] {
+            assert!(e.message.contains(n), "'{n}' not in {e}");
+        }
+        let e = check(
+            yaml("tracks: [{name: a, geometry: [{line: {start: [0, 0]}}]}]"),
+            "f",
+        )
+        .unwrap_err();
+        assert!(e.message.contains("end"), "{e}");
     }
 }

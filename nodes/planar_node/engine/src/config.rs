@@ -14,8 +14,9 @@
 //!   - {name: M, initial_pose: {x: 120, y: 120, c: 0}, part_oid: 0x01010020}
 //! groups: [{name: G}]
 //! ```
-//! Tracks (`tracks: [{name: T1, oid: 0x01050001, part_oid: 0x01010020}]`) are configured
-//! objects whose geometry is built by commands (§1.11); virtual master axes
+//! Tracks (`tracks: [{name: T1, oid: 0x01050001, part_oid: 0x01010020, geometry: [...]}]`)
+//! get their geometry from the init parameters (`starts_from`, `geometry`, `ends_at`,
+//! `closed_loop`, applied at start-up by [`crate::track::init`]) and/or the commands; virtual master axes
 //! (`axes: [{name: X}]`, §5.8.4) drive GearInPosOnTrack.
 
 use crate::errors::reject;
@@ -346,6 +347,135 @@ pub struct TrackConfig {
     /// Part the track is fixed to (V3.2.60; required when more than one part exists).
     #[serde(default)]
     pub part_oid: u32,
+    /// "Starts from tracks" (V3.1.10.44): StartFromTrack(Advanced) calls, before the geometry.
+    #[serde(default)]
+    pub starts_from: Vec<TrackLinkConfig>,
+    /// "Geometric information" (V3.1.10.44): AppendPosition / AppendLine / AppendCircle
+    /// calls in this order; points in the system of the track's part (§1.6).
+    #[serde(default)]
+    pub geometry: Vec<TrackGeometryItem>,
+    /// "Ends at tracks": EndAtTrack(Advanced) calls, after the geometry.
+    #[serde(default)]
+    pub ends_at: Vec<TrackLinkConfig>,
+    /// "Closed loop": CloseLoop after everything else.
+    #[serde(default)]
+    pub closed_loop: bool,
+}
+
+/// One element of a track's "Geometric information": the geometry command it stands for
+/// (§3.3), written as a one-key map `{line: {...}}`, `{circle: {...}}` or `{position: {...}}`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "GeometryItemMap", into = "GeometryItemMap")]
+pub enum TrackGeometryItem {
+    /// `AppendPosition`.
+    Position(TrackPositionConfig),
+    /// `AppendLine`.
+    Line(TrackLineConfig),
+    /// `AppendCircle`.
+    Circle(TrackCircleConfig),
+}
+
+/// `AppendPosition(position)`: the point becomes the new end, reached with heading `c`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackPositionConfig {
+    /// x \[mm\].
+    pub x: f64,
+    /// y \[mm\].
+    pub y: f64,
+    /// Heading \[deg\] (default 0).
+    #[serde(default)]
+    pub c: f64,
+}
+
+/// `AppendLine(start, end)`; points `[x, y]` \[mm\].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackLineConfig {
+    /// Line start.
+    pub start: [f64; 2],
+    /// Line end.
+    pub end: [f64; 2],
+}
+
+/// `AppendCircle(start, end, center, clockwise)`; start = end is a full circle.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackCircleConfig {
+    /// Arc start.
+    pub start: [f64; 2],
+    /// Arc end.
+    pub end: [f64; 2],
+    /// Centre.
+    pub center: [f64; 2],
+    /// Sense of rotation (default counter-clockwise).
+    #[serde(default)]
+    pub clockwise: bool,
+}
+
+/// The YAML form of a [`TrackGeometryItem`]: exactly one of the keys.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GeometryItemMap {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    position: Option<TrackPositionConfig>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    line: Option<TrackLineConfig>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    circle: Option<TrackCircleConfig>,
+}
+
+impl TryFrom<GeometryItemMap> for TrackGeometryItem {
+    type Error = &'static str;
+    fn try_from(m: GeometryItemMap) -> Result<Self, Self::Error> {
+        match (m.position, m.line, m.circle) {
+            (Some(p), None, None) => Ok(TrackGeometryItem::Position(p)),
+            (None, Some(l), None) => Ok(TrackGeometryItem::Line(l)),
+            (None, None, Some(c)) => Ok(TrackGeometryItem::Circle(c)),
+            _ => Err("a geometry element needs exactly one of `position`, `line`, `circle`"),
+        }
+    }
+}
+
+impl From<TrackGeometryItem> for GeometryItemMap {
+    fn from(g: TrackGeometryItem) -> Self {
+        let mut m = GeometryItemMap::default();
+        match g {
+            TrackGeometryItem::Position(p) => m.position = Some(p),
+            TrackGeometryItem::Line(l) => m.line = Some(l),
+            TrackGeometryItem::Circle(c) => m.circle = Some(c),
+        }
+        m
+    }
+}
+
+/// An entry of "Starts from tracks" / "Ends at tracks": the other track's name (the plain
+/// method) or the Advanced method with its options (§5.12).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum TrackLinkConfig {
+    /// `StartFromTrack(other)` / `EndAtTrack(other)`.
+    Plain(String),
+    /// `StartFromTrackAdvanced` / `EndAtTrackAdvanced`.
+    Advanced(TrackLinkAdvancedConfig),
+}
+
+/// `{track, this_track_part_position_index, other_track_part_position_index,
+/// link_only_in_specified_part_positions}` of an Advanced link.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackLinkAdvancedConfig {
+    /// The other track.
+    pub track: String,
+    /// Position index of this track's part (0 = current).
+    #[serde(default)]
+    pub this_track_part_position_index: u32,
+    /// Position index of the other track's part (0 = current).
+    #[serde(default)]
+    pub other_track_part_position_index: u32,
+    /// The link exists only in exactly these part positions.
+    #[serde(default)]
+    pub link_only_in_specified_part_positions: bool,
 }
 
 impl TrackConfig {

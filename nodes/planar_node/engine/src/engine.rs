@@ -176,7 +176,7 @@ impl PlanarEngine {
             .enumerate()
             .map(|(i, p)| (p.name.clone(), i))
             .collect();
-        Ok(PlanarEngine {
+        let mut eng = PlanarEngine {
             timing,
             cycle_time: cfg.cycle_time,
             part_move_time: cfg.part_move_time,
@@ -212,7 +212,9 @@ impl PlanarEngine {
             axis_idx,
             switches: Vec::new(),
             guard_full: true,
-        })
+        };
+        crate::track::init::apply(&mut eng, &cfg)?;
+        Ok(eng)
     }
 
     /// The configured cycle time \[s\].

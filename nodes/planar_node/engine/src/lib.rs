@@ -38,7 +38,8 @@ pub use admission::{admissible, AdmissionContext, CommandKind};
 pub use command::{ObjectKind, PlanarCommand};
 pub use config::{
     EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig, PartPositionConfig,
-    PlanarConfig, TrackConfig, VirtualAxisConfig,
+    PlanarConfig, TrackCircleConfig, TrackConfig, TrackGeometryItem, TrackLineConfig,
+    TrackLinkAdvancedConfig, TrackLinkConfig, TrackPositionConfig, VirtualAxisConfig,
 };
 pub use engine::PlanarEngine;
 pub use snapshot::{

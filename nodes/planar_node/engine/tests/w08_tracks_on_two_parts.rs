@@ -19,11 +19,13 @@ fn config() -> PlanarConfig {
             name: "T1".into(),
             oid: 0,
             part_oid: PART_L,
+            ..Default::default()
         },
         TrackConfig {
             name: "T2".into(),
             oid: 0,
             part_oid: PART_R,
+            ..Default::default()
         },
     ];
     c

@@ -75,16 +75,19 @@ fn config() -> PlanarConfig {
                 name: "T1".into(),
                 oid: 0,
                 part_oid: P1,
+                ..Default::default()
             },
             TrackConfig {
                 name: "T2".into(),
                 oid: 0,
                 part_oid: P1,
+                ..Default::default()
             },
             TrackConfig {
                 name: "T3".into(),
                 oid: 0,
                 part_oid: P2,
+                ..Default::default()
             },
         ],
         ..Default::default()

@@ -370,34 +370,7 @@ impl PlanarEngine {
                     format!("{who}: PartOID missing with more than one part"),
                 ));
             }
-            let part = if t.part_oid != 0 {
-                self.parts.iter().find(|p| p.oid == t.part_oid)
-            } else {
-                self.parts.first()
-            };
-            if let Some(p) = part {
-                let (pcs, o) = p.origin();
-                let side = crate::geometry::STATOR_SIDE;
-                let on = |q: V2| {
-                    let l = q - o;
-                    p.tiles.iter().any(|tl| {
-                        l.x >= tl.x - 1e-6
-                            && l.x <= tl.x + side + 1e-6
-                            && l.y >= tl.y - 1e-6
-                            && l.y <= tl.y + side + 1e-6
-                    })
-                };
-                let shift = self.track_shift_at(k, 0);
-                if pcs != t.cs || !t.geo.samples(5.0).into_iter().all(|q| on(q + shift)) {
-                    return Err(reject(
-                        E_GEOMETRY_INVALID,
-                        format!(
-                            "{who}: the track does not lie completely on part '{}'",
-                            p.name
-                        ),
-                    ));
-                }
-            }
+            self.track_lies_on_part(k)?;
         }
         let id = self.new_id();
         let timing = self.timing;
@@ -414,6 +387,41 @@ impl PlanarEngine {
             },
         );
         reply(id, ReplyValue::None)
+    }
+
+    /// The track's geometry lies completely on its part (§1.6, §5.4); no part: always.
+    pub(crate) fn track_lies_on_part(&self, k: usize) -> Result<(), Rejection> {
+        let who = self.track_who(k);
+        let t = &self.tracks[k];
+        let part = if t.part_oid != 0 {
+            self.parts.iter().find(|p| p.oid == t.part_oid)
+        } else {
+            self.parts.first()
+        };
+        if let Some(p) = part {
+            let (pcs, o) = p.origin();
+            let side = crate::geometry::STATOR_SIDE;
+            let on = |q: V2| {
+                let l = q - o;
+                p.tiles.iter().any(|tl| {
+                    l.x >= tl.x - 1e-6
+                        && l.x <= tl.x + side + 1e-6
+                        && l.y >= tl.y - 1e-6
+                        && l.y <= tl.y + side + 1e-6
+                })
+            };
+            let shift = self.track_shift_at(k, 0);
+            if pcs != t.cs || !t.geo.samples(5.0).into_iter().all(|q| on(q + shift)) {
+                return Err(reject(
+                    E_GEOMETRY_INVALID,
+                    format!(
+                        "{who}: the track does not lie completely on part '{}'",
+                        p.name
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn track_disable(&mut self, k: usize) -> Result<PlanarReply, Rejection> {

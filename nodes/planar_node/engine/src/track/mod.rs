@@ -9,6 +9,7 @@ pub mod bench;
 mod engine_ext;
 pub(crate) mod gap;
 pub mod geometry;
+pub(crate) mod init;
 
 use crate::state::PlanarStateMachine;
 use crate::types::{Direction, Dynamics};
