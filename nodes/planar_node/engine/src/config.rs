@@ -335,8 +335,19 @@ pub struct VirtualAxisConfig {
     pub oid: u32,
 }
 
+/// "Collision range mode" of a track (§1.6, §5.6.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CollisionRangeMode {
+    /// The track computes its ranges at switches (default).
+    #[default]
+    Automatic,
+    /// `collision_range_start` / `collision_range_end` are used.
+    Manual,
+}
+
 /// `tracks:` entry (§1.6 init parameters).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrackConfig {
     /// Name used in commands.
@@ -360,6 +371,45 @@ pub struct TrackConfig {
     /// "Closed loop": CloseLoop after everything else.
     #[serde(default)]
     pub closed_loop: bool,
+    /// "Maximal mover width" \[mm\] (default 155).
+    #[serde(default = "d_size")]
+    pub max_mover_width: f64,
+    /// "Maximal mover height" \[mm\] (default 155).
+    #[serde(default = "d_size")]
+    pub max_mover_height: f64,
+    /// "Check collision against static objects" (default FALSE): in a group the track must
+    /// lie on the stators and keep clear of the other member tracks.
+    #[serde(default)]
+    pub check_static_collision: bool,
+    /// "Collision range mode" (default automatic).
+    #[serde(default)]
+    pub collision_range_mode: CollisionRangeMode,
+    /// "Collision range at start" \[mm\] (manual mode).
+    #[serde(default)]
+    pub collision_range_start: f64,
+    /// "Collision range at end" \[mm\] (manual mode).
+    #[serde(default)]
+    pub collision_range_end: f64,
+}
+
+impl Default for TrackConfig {
+    fn default() -> Self {
+        TrackConfig {
+            name: String::new(),
+            oid: 0,
+            part_oid: 0,
+            starts_from: vec![],
+            geometry: vec![],
+            ends_at: vec![],
+            closed_loop: false,
+            max_mover_width: d_size(),
+            max_mover_height: d_size(),
+            check_static_collision: false,
+            collision_range_mode: CollisionRangeMode::Automatic,
+            collision_range_start: 0.0,
+            collision_range_end: 0.0,
+        }
+    }
 }
 
 /// One element of a track's "Geometric information": the geometry command it stands for
@@ -835,6 +885,21 @@ impl PlanarConfig {
                     &t.name,
                     "names must be non-empty and unique among tracks",
                 ));
+            }
+            positive(&format!("{key}.max_mover_width"), t.max_mover_width)?;
+            positive(&format!("{key}.max_mover_height"), t.max_mover_height)?;
+            for (f, v) in [
+                ("collision_range_start", t.collision_range_start),
+                ("collision_range_end", t.collision_range_end),
+            ] {
+                non_negative(&format!("{key}.{f}"), v)?;
+                if v != 0.0 && t.collision_range_mode == CollisionRangeMode::Automatic {
+                    return Err(bad(
+                        &format!("{key}.{f}"),
+                        v,
+                        "used only with collision_range_mode: manual",
+                    ));
+                }
             }
             if t.part_oid != 0 && !self.parts.iter().any(|p| p.oid == t.part_oid) {
                 return Err(bad(

@@ -37,9 +37,10 @@ pub mod types;
 pub use admission::{admissible, AdmissionContext, CommandKind};
 pub use command::{ObjectKind, PlanarCommand};
 pub use config::{
-    EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig, PartPositionConfig,
-    PlanarConfig, TrackCircleConfig, TrackConfig, TrackGeometryItem, TrackLineConfig,
-    TrackLinkAdvancedConfig, TrackLinkConfig, TrackPositionConfig, VirtualAxisConfig,
+    CollisionRangeMode, EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig,
+    PartPositionConfig, PlanarConfig, TrackCircleConfig, TrackConfig, TrackGeometryItem,
+    TrackLineConfig, TrackLinkAdvancedConfig, TrackLinkConfig, TrackPositionConfig,
+    VirtualAxisConfig,
 };
 pub use engine::PlanarEngine;
 pub use snapshot::{

@@ -141,10 +141,19 @@ pub struct TrackSnapshot {
     pub subsequent_tracks: Vec<String>,
     /// Part OID (0 = none).
     pub part_oid: u32,
-    /// Collision range at the start (automatic; 0 without a switch there) \[mm\] (§5.6.4).
+    /// Collision range at the start (automatic: 0 without a switch there; manual: the
+    /// configured value) \[mm\] (§5.6.4).
     pub collision_range_start: f64,
     /// Collision range at the end \[mm\].
     pub collision_range_end: f64,
+    /// "Collision range mode" (§1.6).
+    pub collision_range_mode: crate::config::CollisionRangeMode,
+    /// "Maximal mover width" \[mm\].
+    pub max_mover_width: f64,
+    /// "Maximal mover height" \[mm\].
+    pub max_mover_height: f64,
+    /// "Check collision against static objects".
+    pub check_static_collision: bool,
     /// Subsequent Tracks whose link is traversable with the current part positions (§5.12).
     pub traversable_subsequent_tracks: Vec<String>,
 }

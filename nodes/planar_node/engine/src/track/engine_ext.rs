@@ -1500,8 +1500,8 @@ impl PlanarEngine {
         for t in &mut self.tracks {
             t.end_switch = None;
             t.start_switch = None;
-            t.range_end = 0.0;
-            t.range_start = 0.0;
+            t.range_end = t.params.range_end(0.0);
+            t.range_start = t.params.range_start(0.0);
         }
         for (w, sw) in switches.iter().enumerate() {
             // (track, switch at its end?) for every track of the switch.
@@ -1531,9 +1531,11 @@ impl PlanarEngine {
                 let mut x = 0.0;
                 while x < l {
                     let q = g.pose_at(if from_end { l - x } else { x }).p;
-                    let clear = all.iter().filter(|(o, _)| *o != me).all(|&(o, o_end)| {
-                        near(o, o_end, x + super::SWITCH_CLEARANCE, q) > super::SWITCH_CLEARANCE
-                    });
+                    let c = tracks[me].params.switch_clearance();
+                    let clear = all
+                        .iter()
+                        .filter(|(o, _)| *o != me)
+                        .all(|&(o, o_end)| near(o, o_end, x + c, q) > c);
                     if clear {
                         return x;
                     }
@@ -1547,11 +1549,11 @@ impl PlanarEngine {
                 sw.outgoing.iter().map(|&k| (k, range(k, false))).collect();
             for (k, r) in ends {
                 self.tracks[k].end_switch = Some(w);
-                self.tracks[k].range_end = r;
+                self.tracks[k].range_end = self.tracks[k].params.range_end(r);
             }
             for (k, r) in starts {
                 self.tracks[k].start_switch = Some(w);
-                self.tracks[k].range_start = r;
+                self.tracks[k].range_start = self.tracks[k].params.range_start(r);
             }
         }
         self.switches = switches;
@@ -2550,6 +2552,10 @@ impl PlanarEngine {
                 part_oid: t.part_oid,
                 collision_range_start: t.range_start,
                 collision_range_end: t.range_end,
+                collision_range_mode: t.params.range_mode,
+                max_mover_width: t.params.max_mover_width,
+                max_mover_height: t.params.max_mover_height,
+                check_static_collision: t.params.check_static_collision,
                 traversable_subsequent_tracks: t
                     .next
                     .iter()

@@ -10,6 +10,7 @@ mod engine_ext;
 pub(crate) mod gap;
 pub mod geometry;
 pub(crate) mod init;
+pub(crate) mod params;
 
 use crate::state::PlanarStateMachine;
 use crate::types::{Direction, Dynamics};
@@ -274,6 +275,8 @@ pub(crate) struct Track {
     /// Links to `next` tracks that exist only in specified part positions:
     /// (to, this part's index, other part's index) (§5.12 linkOnlyInSpecifiedPartPositions).
     pub link_only: Vec<(usize, u32, u32)>,
+    /// Collision init parameters (§1.6).
+    pub params: params::TrackParams,
 }
 
 /// Distance beyond which a mover no longer matters at a switch (§5.6.4 automatic range)
@@ -292,7 +295,8 @@ pub(crate) struct Switch {
     pub outgoing: Vec<usize>,
 }
 
-/// Half-width of a track's tube: half the proposal "Maximal mover width" (155 mm) \[mm\].
+/// Half-width of the tube of a track with the default "Maximal mover width" (155 mm) \[mm\];
+/// per track: [`params::TrackParams::tube_half_width`].
 pub const TUBE_HALF_WIDTH: f64 = 77.5;
 
 impl Track {
@@ -300,7 +304,7 @@ impl Track {
     pub fn build_tube(&self) -> Vec<crate::geometry::ConvexPolygon> {
         let l = self.geo.length();
         let n = (l / 20.0).ceil().max(1.0) as usize;
-        let h = TUBE_HALF_WIDTH;
+        let h = self.params.tube_half_width();
         let at = |k: usize| {
             let p = self.geo.pose_at(l * k as f64 / n as f64);
             let t = p.tangent();
@@ -490,6 +494,7 @@ pub(crate) fn build_tracks(
                 range_start: 0.0,
                 geo_origin: part.map(|p| p.origin().1).unwrap_or_default(),
                 link_only: Vec::new(),
+                params: params::TrackParams::of(t),
             }
         })
         .collect();
