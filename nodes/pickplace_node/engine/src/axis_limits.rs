@@ -110,6 +110,23 @@ pub fn admissible(s: &AxisState, m: &AxisMax, dt: f64) -> (f64, f64) {
     (at(a_lo), at(a_hi))
 }
 
+/// The set-point of an axis that cannot take the path's set-point `target` (outside its
+/// admissible interval): it closes the gap to the target moving at `target_vel` along a braking
+/// curve (at half the maximum deceleration, leaving room for the jerk), within the interval,
+/// so it converges instead of overshooting back and forth at the limits.
+pub fn catch_up(s: &AxisState, m: &AxisMax, dt: f64, target: f64, target_vel: f64) -> f64 {
+    let (lo, hi) = admissible(s, m, dt);
+    // Gap after this cycle if the axis kept its velocity; its rate of change.
+    let r = s.pos + s.vel * dt - target;
+    let r_dot = s.vel - target_vel;
+    let brake = 0.5 * m.acc.min(f64::MAX);
+    // Time constant of the velocity loop: the time to build up the braking deceleration.
+    let tau = (brake / m.jerk).max(dt);
+    let closing = (2.0 * brake * r.abs()).sqrt().min(r.abs() / (2.0 * tau));
+    let a = (-r.signum() * closing - r_dot) / tau;
+    (s.pos + dt * (s.vel + a * dt)).clamp(lo, hi)
+}
+
 /// Slack of the admissibility test against round-off of the finite differences [units].
 pub fn slack(pos: f64) -> f64 {
     1e-10 * (1.0 + pos.abs())
@@ -212,6 +229,40 @@ mod tests {
         assert_eq!(lo, hi);
         let acc = ((hi - s.pos) / DT - s.vel) / DT;
         assert!((acc - (5000.0 - 100.0)).abs() < 1e-6, "{acc}");
+    }
+
+    /// An axis 5 units behind a target moving at 100 units/s converges onto it within the
+    /// maxima and stays on it (no oscillation at the limits).
+    #[test]
+    fn catch_up_converges_onto_a_moving_target() {
+        let m = AxisMax {
+            vel: 450.0,
+            acc: 8000.0,
+            jerk: 2e6,
+        };
+        let mut s = AxisState {
+            pos: -5.0,
+            vel: 100.0,
+            acc: 0.0,
+        };
+        let mut err = f64::MAX;
+        for k in 1..=300 {
+            let target = 100.0 * k as f64 * DT;
+            let p = catch_up(&s, &m, DT, target, 100.0);
+            let vel = (p - s.pos) / DT;
+            let acc = (vel - s.vel) / DT;
+            assert!(
+                vel.abs() <= 450.0 + 1e-9 && acc.abs() <= 8000.0 + 1e-6,
+                "cycle {k}"
+            );
+            assert!(
+                ((acc - s.acc) / DT).abs() <= 2e6 * (1.0 + 1e-6),
+                "cycle {k}"
+            );
+            s = AxisState { pos: p, vel, acc };
+            err = (p - target).abs();
+        }
+        assert!(err < 1e-3, "still {err} behind after 0.3 s");
     }
 
     #[test]

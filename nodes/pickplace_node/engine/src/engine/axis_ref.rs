@@ -5,7 +5,7 @@
 //! reached.
 
 use super::*;
-use crate::axis_limits::{admissible, inside, largest_fraction, AxisState};
+use crate::axis_limits::{admissible, catch_up, inside, largest_fraction, AxisState};
 use crate::path_run::PathRun;
 
 /// Secant refinements of the path fraction against the exact (curved, coupled) set-points.
@@ -69,6 +69,7 @@ impl PickPlaceEngine {
             return false;
         }
         let iv = self.axis_intervals(dt);
+        let nominal = self.pose;
         let mut clamped = false;
         let mut lost: Option<usize> = None;
         for q in 0..7 {
@@ -76,7 +77,13 @@ impl PickPlaceEngine {
             if inside(p, iv[q]) {
                 continue;
             }
-            let c = p.clamp(iv[q].0, iv[q].1);
+            let s = AxisState {
+                pos: self.prev_pose[q],
+                vel: self.vel[q],
+                acc: self.acc[q],
+            };
+            let target_vel = (p - self.prev_nominal[q]) / dt;
+            let c = catch_up(&s, &self.axis_max[q], dt, p, target_vel);
             self.pose[q] = c;
             clamped = true;
             let idx = pose_axis_index(q);
@@ -85,6 +92,7 @@ impl PickPlaceEngine {
                 lost = Some(idx);
             }
         }
+        self.prev_nominal = nominal;
         if let Some(idx) = lost {
             self.raise_error(ids::FOLLOWING_ERROR, Some(idx), events);
         }

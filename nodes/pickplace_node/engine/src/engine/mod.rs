@@ -324,6 +324,9 @@ pub struct PickPlaceEngine {
     /// AXIS_REF maxima per pose axis (§7.8 (2)) and whether any is set.
     axis_max: [AxisMax; 7],
     axis_limited: bool,
+    /// The path/belt set-point of the last cycle before the clamp (its velocity is the target
+    /// velocity of a lagging axis).
+    prev_nominal: [f64; 7],
     /// Scratch buffers reused every cycle (no allocation in steady state).
     scratch_wev: Vec<(WorkpieceEventKind, u64)>,
     scratch_ids: Vec<u64>,
@@ -402,6 +405,7 @@ impl PickPlaceEngine {
         Ok(PickPlaceEngine {
             axis_max,
             axis_limited: axis_max.iter().any(|m| !m.is_none()),
+            prev_nominal: pose,
             par: cfg.params.clone(),
             cfg,
             kin: Box::new(IdentityKinematics),

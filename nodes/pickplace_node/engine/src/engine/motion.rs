@@ -618,9 +618,9 @@ impl PickPlaceEngine {
             }
         }
         // §7.8 (2): the set-points of path and belt motion keep the AXIS_REF maxima.
-        if matches!(self.motion, Motion::Running | Motion::Bound { .. })
-            && self.clamp_to_axis_max(dt, events)
-        {
+        if !matches!(self.motion, Motion::Running | Motion::Bound { .. }) {
+            self.prev_nominal = self.pose;
+        } else if self.clamp_to_axis_max(dt, events) {
             if let Some(r) = self.running.as_deref_mut() {
                 r.gripper.active = false;
             }
