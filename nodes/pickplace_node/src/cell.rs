@@ -99,6 +99,21 @@ pub struct Cell {
 }
 
 impl Cell {
+    /// `scPar` (belt 0) or `ascConveyorBeltPar[belt]` as YAML: a pure read, served to
+    /// `~/get_params` through the controller's query path (no command, no cycle needed).
+    pub fn params_yaml(&self, belt: u8) -> Result<String, Rejection> {
+        if belt == 0 {
+            serde_yaml::to_string(self.engine.params())
+        } else {
+            let p = self
+                .engine
+                .belt_params(belt)
+                .ok_or_else(|| Rejection::unknown_object("belt", &belt.to_string()))?;
+            serde_yaml::to_string(&p)
+        }
+        .map_err(|e| Rejection::new(ids::INVALID_PARAMETER, e.to_string()))
+    }
+
     /// Wraps `engine`; cell events go to `events` (dropped when `None`).
     pub fn new(engine: PickPlaceEngine, events: Option<UnboundedSender<EventBatch>>) -> Self {
         Cell {
@@ -268,23 +283,11 @@ impl Engine for Cell {
                     .command(PickPlaceCommand::SetBeltParams { belt, params: p })
                     .map(|id| reply(id, false))
             }
-            CellCommand::GetParams { belt } => {
-                let text = if belt == 0 {
-                    serde_yaml::to_string(self.engine.params())
-                } else {
-                    let p = self
-                        .engine
-                        .belt_params(belt)
-                        .ok_or_else(|| Rejection::unknown_object("belt", &belt.to_string()))?;
-                    serde_yaml::to_string(&p)
-                }
-                .map_err(|e| Rejection::new(ids::INVALID_PARAMETER, e.to_string()))?;
-                Ok(CellReply {
-                    id: CmdId(0),
-                    tracked: false,
-                    text: Some(text),
-                })
-            }
+            CellCommand::GetParams { belt } => Ok(CellReply {
+                id: CmdId(0),
+                tracked: false,
+                text: Some(self.params_yaml(belt)?),
+            }),
             CellCommand::ExecuteWith {
                 set_target,
                 target_pose,

@@ -518,7 +518,8 @@ fn register_hmi(shell: &mut NodeShell<Cell>) -> Result<(), ShellError> {
     Ok(())
 }
 
-/// `~/get_params`: `scPar` (belt 0) or `ascConveyorBeltPar[belt]` as YAML, read in the cycle.
+/// `~/get_params`: `scPar` (belt 0) or `ascConveyorBeltPar[belt]` as YAML, read between cycles
+/// through the query path (no command id, nothing on `~/command_status`).
 fn register_get_params(shell: &mut NodeShell<Cell>) -> Result<(), ShellError> {
     let handle = shell.handle.clone();
     shell.service::<PickPlaceGetParamsRequest, PickPlaceGetParamsResponse, _, _>(
@@ -532,17 +533,17 @@ fn register_get_params(shell: &mut NodeShell<Cell>) -> Result<(), ShellError> {
                     n => belt(n),
                 };
                 let outcome = match outcome {
-                    Ok(b) => handle.call(CellCommand::GetParams { belt: b }).await,
+                    Ok(b) => handle.query(move |c: &Cell| c.params_yaml(b)).await,
                     Err(e) => Err(e),
                 };
                 match outcome {
-                    Ok(reply) => PickPlaceGetParamsResponse {
+                    Ok(Ok(text)) => PickPlaceGetParamsResponse {
                         accepted: true,
                         error_id: 0,
                         message: String::new(),
-                        params: reply.text.unwrap_or_default(),
+                        params: text,
                     },
-                    Err(e) => PickPlaceGetParamsResponse {
+                    Ok(Err(e)) | Err(e) => PickPlaceGetParamsResponse {
                         accepted: false,
                         error_id: e.error_id.0,
                         message: e.message,

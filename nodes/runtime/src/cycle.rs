@@ -7,6 +7,9 @@
 //! (`free_run`). Either way the cycle never blocks on the ROS side: commands arrive through a
 //! bounded queue (full = an immediate rejection), replies and events leave through non-blocking
 //! channels, snapshots through a `watch` channel (a short lock, never held across DDS calls).
+//!
+//! Read-only queries ([`ControllerHandle::query`]) run on the cycle thread between cycles, never
+//! inside the timed part of a step: no command id, no event, no effect on the engine (`&E`).
 
 use crate::shell::{CommandLabel, CommandRegistry};
 use crate::stats::{CycleStats, StatsRecorder};
@@ -88,6 +91,12 @@ enum Request<E: Engine> {
     },
 }
 
+/// A read-only query: runs on the cycle thread with the engine between two cycles.
+type Query<E> = Box<dyn FnOnce(&E) + Send>;
+
+/// Queries run at most this many per cycle, so a burst spreads over cycles.
+const QUERIES_PER_CYCLE: usize = 16;
+
 /// Lockstep control, on its own unbounded channel so commands stay in the bounded queue.
 enum Control {
     /// Run `n` cycles, then answer with the cycle count.
@@ -99,6 +108,7 @@ enum Control {
 /// The ROS side's handle on a running controller. Cheap to clone.
 pub struct ControllerHandle<E: Engine> {
     queue: SyncSender<Request<E>>,
+    queries: SyncSender<Query<E>>,
     control: mpsc::Sender<Control>,
     wake: Arc<Wake>,
     snapshots: watch::Receiver<Arc<Stamped<E::Snapshot>>>,
@@ -112,6 +122,7 @@ impl<E: Engine> Clone for ControllerHandle<E> {
     fn clone(&self) -> Self {
         ControllerHandle {
             queue: self.queue.clone(),
+            queries: self.queries.clone(),
             control: self.control.clone(),
             wake: self.wake.clone(),
             snapshots: self.snapshots.clone(),
@@ -170,6 +181,7 @@ impl<E: Engine> Controller<E> {
             "period validated by config"
         );
         let (queue, rx) = mpsc::sync_channel(config.queue_capacity.max(1));
+        let (queries, query_rx) = mpsc::sync_channel(config.queue_capacity.max(1));
         let (control, control_rx) = mpsc::channel();
         let first = Arc::new(Stamped {
             cycle: 0,
@@ -190,6 +202,7 @@ impl<E: Engine> Controller<E> {
         let mut cycle = CycleThread {
             engine,
             rx,
+            query_rx,
             control_rx,
             snap_tx,
             sink: EventSink { all: all_tx },
@@ -213,6 +226,7 @@ impl<E: Engine> Controller<E> {
             })?;
         let handle = ControllerHandle {
             queue,
+            queries,
             control,
             wake,
             snapshots,
@@ -322,6 +336,42 @@ impl<E: Engine> ControllerHandle<E> {
         rx.await.unwrap_or_else(|_| Err(not_running()))
     }
 
+    /// Reads the engine without commanding it: `f` runs on the cycle thread between two cycles
+    /// (never inside a step's timed part) and its result comes back. No command id, no event on
+    /// `~/command_status`, no effect on the engine. Served in lockstep too, without a step.
+    ///
+    /// Budget: at most [`QUERIES_PER_CYCLE`] queries per cycle, and in real time a query starts
+    /// only while at least half a period is left before the next deadline, so queries never
+    /// delay a cycle by more than one query's own run time; keep `f` short (microseconds).
+    /// The query queue has the command queue's capacity; full = `QUEUE_FULL`, never a block.
+    pub async fn query<R, F>(&self, f: F) -> Result<R, Rejection>
+    where
+        F: FnOnce(&E) -> R + Send + 'static,
+        R: Send + 'static,
+    {
+        if self.stop.load(Ordering::Relaxed) {
+            return Err(not_running());
+        }
+        let (tx, rx) = oneshot::channel();
+        let q: Query<E> = Box::new(move |e: &E| {
+            let _ = tx.send(f(e));
+        });
+        match self.queries.try_send(q) {
+            Ok(()) => self.wake.notify(),
+            Err(TrySendError::Full(_)) => {
+                return Err(Rejection::new(
+                    ErrorId::QUEUE_FULL,
+                    format!(
+                        "query queue of {} is full ({} entries); query not queued",
+                        self.config.name, self.config.queue_capacity
+                    ),
+                ))
+            }
+            Err(TrySendError::Disconnected(_)) => return Err(not_running()),
+        }
+        rx.await.map_err(|_| not_running())
+    }
+
     /// Lockstep: runs `n` cycles and returns the cycle count afterwards.
     /// In real-time mode the request is rejected.
     pub async fn step(&self, n: u64) -> Result<u64, Rejection> {
@@ -398,6 +448,7 @@ fn not_running() -> Rejection {
 struct CycleThread<E: Engine> {
     engine: E,
     rx: Receiver<Request<E>>,
+    query_rx: Receiver<Query<E>>,
     control_rx: Receiver<Control>,
     snap_tx: watch::Sender<Arc<Stamped<E::Snapshot>>>,
     sink: EventSink,
@@ -443,7 +494,25 @@ impl<E: Engine> CycleThread<E> {
             if self.recorder.due_for_publish(self.cycle) {
                 self.publish_stats();
             }
+            // Queries after the timed part, only while half a period is left.
+            let latest = deadline.checked_sub(period / 2);
+            self.serve_queries(|| latest.is_some_and(|l| Instant::now() <= l));
         }
+    }
+
+    /// Runs queued read-only queries while `may_start` allows, at most [`QUERIES_PER_CYCLE`].
+    /// Returns true when it stopped with the cap reached (more may be waiting).
+    fn serve_queries(&mut self, may_start: impl Fn() -> bool) -> bool {
+        for _ in 0..QUERIES_PER_CYCLE {
+            if !may_start() {
+                return false;
+            }
+            match self.query_rx.try_recv() {
+                Ok(q) => q(&self.engine),
+                Err(_) => return false,
+            }
+        }
+        true
     }
 
     fn run_lockstep(&mut self) {
@@ -452,6 +521,10 @@ impl<E: Engine> CycleThread<E> {
             if pending.is_empty() && !self.free_run {
                 self.wake.wait();
                 self.drain_control(&mut pending);
+                // Queries need no step: served while idle (the loop comes back for more).
+                if self.serve_queries(|| true) {
+                    self.wake.notify();
+                }
                 continue;
             }
             self.drain_control(&mut pending);
@@ -480,6 +553,7 @@ impl<E: Engine> CycleThread<E> {
             if self.recorder.due_for_publish(self.cycle) {
                 self.publish_stats();
             }
+            self.serve_queries(|| true);
         }
     }
 

@@ -246,3 +246,87 @@ impl<F: std::future::Future<Output = Result<u64, Rejection>>> NowOrNever for F {
         rt().block_on(self).is_err()
     }
 }
+
+/// Read-only queries (`ControllerHandle::query`): answered between cycles, in lockstep without
+/// any step, with no command id, no event and no effect on the engine.
+#[test]
+fn query_reads_the_engine_without_a_step_an_id_or_an_event() {
+    let run = |with_queries: bool| {
+        rt().block_on(async {
+            let (ctl, mut all) = Controller::spawn(counter(), lockstep(0.001, 8), |r| *r).unwrap();
+            let h = ctl.handle();
+            drop(h.submit(Cmd::SetVel(10.0), None).unwrap());
+            h.step(100).await.unwrap();
+            if with_queries {
+                let q = tokio::time::timeout(
+                    Duration::from_secs(5),
+                    h.query(|e: &Counter| (e.pos, e.next_id, e.dts.len())),
+                )
+                .await
+                .expect("answered in lockstep without a step")
+                .unwrap();
+                assert!((q.0 - 1.0).abs() < 1e-9, "engine data: {q:?}");
+                assert_eq!((q.1, q.2), (0, 100));
+                // More than one cycle's share, sequentially and as a burst of a full queue.
+                for k in 0..40 {
+                    let n = h.query(|e: &Counter| e.dts.len()).await.unwrap();
+                    assert_eq!(n, 100, "query {k}");
+                }
+                let burst = futures_join(&h).await;
+                assert!(burst.iter().all(|r| *r == Ok(100)), "{burst:?}");
+                // No cycle ran for them, and no event left the cycle.
+                assert_eq!(h.snapshot().cycle, 100);
+                assert!(all.try_recv().is_err());
+            }
+            // No command id was used: the next command gets the first one.
+            let fut = h.call(Cmd::Move(3));
+            let (id, _) = tokio::join!(fut, h.step(1));
+            assert_eq!(id.unwrap(), Some(CmdId(1)));
+            h.step(50).await.unwrap();
+            let e = ctl.shutdown().unwrap();
+            (e.pos.to_bits(), e.dts.len())
+        })
+    };
+    // The engine is unchanged by the queries: the same trajectory bit for bit.
+    assert_eq!(run(true), run(false));
+}
+
+/// Eight queries at once (the queue's capacity), all answered.
+async fn futures_join(h: &motion_runtime::ControllerHandle<Counter>) -> Vec<Result<usize, u32>> {
+    let q = || async {
+        h.query(|e: &Counter| e.dts.len())
+            .await
+            .map_err(|r| r.error_id.0)
+    };
+    let (a, b, c, d) = tokio::join!(q(), q(), q(), q());
+    let (e, f, g, i) = tokio::join!(q(), q(), q(), q());
+    vec![a, b, c, d, e, f, g, i]
+}
+
+#[test]
+fn queries_run_in_real_time_between_cycles_and_a_full_queue_rejects() {
+    rt().block_on(async {
+        // 0.3 s period: the first cycle (and the first chance to serve a query) is 0.3 s away.
+        let mut cfg = lockstep(0.3, 2);
+        cfg.mode = ClockMode::RealTime;
+        let (ctl, _e) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
+        let h = ctl.handle();
+        // Capacity 2: the third query in the same instant is refused at once, never blocks.
+        let q = || h.query(|e: &Counter| e.dts.len());
+        let t0 = Instant::now();
+        let (a, b, c) = tokio::join!(q(), q(), q());
+        let results = [a, b, c];
+        let refused: Vec<_> = results.iter().filter_map(|r| r.as_ref().err()).collect();
+        assert_eq!(refused.len(), 1, "{results:?}");
+        assert_eq!(refused[0].error_id, ErrorId::QUEUE_FULL);
+        // The two queued ones are answered after the first cycle, with its whole count.
+        for r in results.iter().filter_map(|r| r.as_ref().ok()) {
+            assert_eq!(*r, 1);
+        }
+        assert!(t0.elapsed() < Duration::from_secs(2));
+        let cycles = h.snapshot().cycle;
+        let n = h.query(|e: &Counter| e.dts.len()).await.unwrap() as u64;
+        assert!(n >= cycles && n <= cycles + 2, "{n} vs {cycles}");
+        drop(ctl);
+    });
+}

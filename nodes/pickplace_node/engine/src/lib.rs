@@ -36,6 +36,7 @@
 // Axis arrays are indexed by the manual's axis numbers; index loops read like the spec.
 #![allow(clippy::needless_range_loop)]
 
+pub mod axis_limits;
 pub mod belt;
 pub mod command;
 pub mod config;

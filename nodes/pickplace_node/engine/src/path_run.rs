@@ -124,6 +124,19 @@ fn scaled(l: &Limits, ov: f64) -> Limits {
 /// Override below which the path is brought to standstill instead of scaled (§12: 0 = halt).
 const OV_STANDSTILL: f64 = 1e-6;
 
+/// The mutable progress of a [`PathRun`] (no allocation to save or restore): lets the cycle try
+/// a shorter advance of the path parameter (§7.8 (2)) and take it back.
+#[derive(Clone, Copy, Debug)]
+pub struct Cursor {
+    sub: usize,
+    motion: Profile1,
+    t: f64,
+    sigma: State1,
+    drive: Drive,
+    nominal: bool,
+    ov_hold: bool,
+}
+
 /// One path in execution.
 #[derive(Clone, Debug)]
 pub struct PathRun {
@@ -328,6 +341,30 @@ impl PathRun {
             return;
         }
         self.replan();
+    }
+
+    /// The current progress.
+    pub fn cursor(&self) -> Cursor {
+        Cursor {
+            sub: self.sub,
+            motion: self.motion,
+            t: self.t,
+            sigma: self.sigma,
+            drive: self.drive,
+            nominal: self.nominal,
+            ov_hold: self.ov_hold,
+        }
+    }
+
+    /// Goes back to a progress taken from this run with [`Self::cursor`].
+    pub fn restore(&mut self, c: Cursor) {
+        self.sub = c.sub;
+        self.motion = c.motion;
+        self.t = c.t;
+        self.sigma = c.sigma;
+        self.drive = c.drive;
+        self.nominal = c.nominal;
+        self.ov_hold = c.ov_hold;
     }
 
     /// Advances the path parameter by `dt` (no alloc).

@@ -7,6 +7,7 @@
 //! (`state_machine`) → motion (`motion`, planning in `planning`) → drive lag and monitoring
 //! (`monitor`). Commands are screened in `commands`.
 
+use crate::axis_limits::{pose_axis_max, AxisMax};
 use crate::belt::{Belt, WorkpieceEventKind, WorkpieceState};
 use crate::command::{FaultKind, PickPlaceCommand, ServiceRequest, StopInputs};
 use crate::config::{PickPlaceConfig, MAX_BELTS};
@@ -320,6 +321,12 @@ pub struct PickPlaceEngine {
     cycle: u64,
     time: f64,
     events: Vec<CellEvent>,
+    /// AXIS_REF maxima per pose axis (§7.8 (2)) and whether any is set.
+    axis_max: [AxisMax; 7],
+    axis_limited: bool,
+    /// The path/belt set-point of the last cycle before the clamp (its velocity is the target
+    /// velocity of a lagging axis).
+    prev_nominal: [f64; 7],
     /// Scratch buffers reused every cycle (no allocation in steady state).
     scratch_wev: Vec<(WorkpieceEventKind, u64)>,
     scratch_ids: Vec<u64>,
@@ -357,6 +364,7 @@ fn v3(p: &[f64; 7]) -> Vec3 {
     Vec3::new(p[0], p[1], p[2])
 }
 
+mod axis_ref;
 mod commands;
 mod monitor;
 mod motion;
@@ -393,7 +401,11 @@ impl PickPlaceEngine {
             ..Inputs::default()
         };
         let cfg_cycle = cfg.cycle_time_s;
+        let axis_max = pose_axis_max(&cfg);
         Ok(PickPlaceEngine {
+            axis_max,
+            axis_limited: axis_max.iter().any(|m| !m.is_none()),
+            prev_nominal: pose,
             par: cfg.params.clone(),
             cfg,
             kin: Box::new(IdentityKinematics),

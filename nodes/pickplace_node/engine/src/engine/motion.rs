@@ -234,7 +234,11 @@ impl PickPlaceEngine {
                 belt,
                 workpiece,
             } => {
-                run.advance(dt);
+                if self.advance_path(run, dt) {
+                    // Slowed for an AXIS_REF maximum (§7.8 (2)): the planned lead time no longer
+                    // holds, so the pulse comes at the profile end (as for the override, §10).
+                    r.gripper.active = false;
+                }
                 if run.sigma.pos > 0.0 {
                     // xInParkPos / xInTarget hold until the TCP actually leaves.
                     self.at_park = false;
@@ -587,13 +591,14 @@ impl PickPlaceEngine {
             Motion::Running => {
                 if self.state == TmState::MovePp && !std::mem::take(&mut self.start_next_cycle) {
                     self.advance_running(dt, e, events);
-                } else if let Some(Phase::Path { run, .. }) =
-                    self.running.as_deref_mut().map(|r| &mut r.phase)
-                {
+                } else if let Some(mut r) = self.running.take() {
                     // STOP / PATH_INTERRUPT / held: only braking on the path.
-                    if run.drive != Drive::Run {
-                        run.advance(dt);
+                    if let Phase::Path { run, .. } = &mut r.phase {
+                        if run.drive != Drive::Run {
+                            self.advance_path(run, dt);
+                        }
                     }
+                    self.running = Some(r);
                 }
                 if let Some(r) = self.running.as_deref() {
                     match &r.phase {
@@ -609,12 +614,22 @@ impl PickPlaceEngine {
                         }
                         _ => {}
                     }
-                    if matches!(self.state, TmState::Stop | TmState::PathInterrupt) {
-                        if let Some(r) = self.running.as_deref_mut() {
-                            r.hold_pose = self.pose;
-                        }
-                    }
                 }
+            }
+        }
+        // §7.8 (2): the set-points of path and belt motion keep the AXIS_REF maxima.
+        if !matches!(self.motion, Motion::Running | Motion::Bound { .. }) {
+            self.prev_nominal = self.pose;
+        } else if self.clamp_to_axis_max(dt, events) {
+            if let Some(r) = self.running.as_deref_mut() {
+                r.gripper.active = false;
+            }
+        }
+        if matches!(self.motion, Motion::Running)
+            && matches!(self.state, TmState::Stop | TmState::PathInterrupt)
+        {
+            if let Some(r) = self.running.as_deref_mut() {
+                r.hold_pose = self.pose;
             }
         }
     }

@@ -44,8 +44,9 @@ impl PickPlaceEngine {
     }
 
     /// The profile's `scPar` with the AXIS_REF limits of the group configuration folded into the
-    /// `…Max…` values (§7.8 (2), proposal: the path is slowed down so the geometry is kept). With
-    /// the identity kinematics A1 … A6 move like X … C, so both limits apply to the same axis.
+    /// `…Max…` values, so a static profile keeps them already at planning (§7.8 (1)); what the
+    /// belt superposition adds is limited at the interpolation stage (`axis_ref`, §7.8 (2)).
+    /// With the identity kinematics A1 … A6 move like X … C, so both limits apply to one axis.
     pub(super) fn with_axis_ref_limits(&self, par: &ScPar) -> ScPar {
         let mut p = par.clone();
         let fold = |a: f64, b: f64| match (a > 0.0, b > 0.0) {

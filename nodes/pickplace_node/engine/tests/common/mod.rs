@@ -166,7 +166,19 @@ pub fn w8_belt() -> pickplace_engine::ConveyorBeltPar {
 
 /// A cell with belt 1 of W8 running at `velocity` and the TCP at `tcp`.
 pub fn belt_cell(velocity: f64, tcp: [f64; 7]) -> Cell {
+    belt_cell_with_axes(velocity, tcp, &[])
+}
+
+/// [`belt_cell`] with group configuration entries per axis name (`x`, `a1`, …).
+pub fn belt_cell_with_axes(
+    velocity: f64,
+    tcp: [f64; 7],
+    axes: &[(&str, pickplace_engine::AxisConfig)],
+) -> Cell {
     let mut cfg = common_config();
+    for (name, a) in axes {
+        cfg.axes.insert(name.to_string(), *a);
+    }
     cfg.initial_tcp = Some(tcp);
     cfg.belts.insert(
         "1".into(),
