@@ -14,7 +14,7 @@ use motion_msgs::action::{
     MoverMoveOnTrackResult,
 };
 use motion_msgs::deps::visualization_msgs::msg::{Marker, MarkerArray};
-use motion_msgs::msg::{PlanarMoverState, PlanarState, PlanarTrackState};
+use motion_msgs::msg::{CommandStatus, PlanarMoverState, PlanarState, PlanarTrackState};
 use motion_msgs::srv::{self, *};
 use planar_engine::errors::E_TRACK_MODE_CONFLICT;
 use planar_node::PlanarNode;
@@ -74,6 +74,9 @@ async fn scenario(mapping: ServiceMapping) {
     let mut c = ClientNode::new(domain, "test_client", mapping);
 
     let states = c.subscribe::<PlanarState>("/planar_node/state", PlanarState::type_name());
+    let statuses =
+        c.subscribe::<CommandStatus>("/planar_node/command_status", CommandStatus::type_name());
+    let markers = c.subscribe::<MarkerArray>("/planar_node/markers", MarkerArray::type_name());
     let (first, _) = within(20.0, "first state sample", states.async_take())
         .await
         .unwrap();
@@ -161,6 +164,34 @@ async fn scenario(mapping: ServiceMapping) {
         }
     );
     assert!(r.accepted, "{}", r.message);
+    // The closed loop is drawn (sampled with GetPositionAt through the read-only query
+    // path): no command of the sampler appears on ~/command_status, only the clients' own
+    // labelled commands (their Done events went out before the marker could be drawn).
+    within(20.0, "sampled loop marker", async {
+        loop {
+            let (a, _) = markers.async_take().await.unwrap();
+            if a.markers
+                .iter()
+                .any(|m| m.ns == "tracks" && m.action == Marker::ADD && m.points.len() > 100)
+            {
+                return;
+            }
+        }
+    })
+    .await;
+    let mut seen = Vec::new();
+    while let Ok(Some((st, _))) = statuses.take() {
+        seen.push(st);
+    }
+    assert!(!seen.is_empty(), "the track commands' statuses");
+    assert!(
+        seen.iter()
+            .all(|st| !st.command.is_empty() && st.command != "get_position_at"),
+        "{:?}",
+        seen.iter()
+            .map(|st| (&st.object, &st.command))
+            .collect::<Vec<_>>()
+    );
     let enable = c
         .client::<TrackEnableRequest, TrackEnableResponse>(
             "/planar_node/track_enable",
@@ -443,7 +474,6 @@ async fn scenario(mapping: ServiceMapping) {
     assert!(result.command_aborted && !result.done, "{result:?}");
 
     // ~/markers: the loop as a LINE_STRIP (metres), starting at the first line's start.
-    let markers = c.subscribe::<MarkerArray>("/planar_node/markers", MarkerArray::type_name());
     let m = within(20.0, "track marker", async {
         loop {
             let (a, _) = markers.async_take().await.unwrap();

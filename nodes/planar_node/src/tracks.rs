@@ -868,18 +868,14 @@ impl TrackPaths {
     }
 }
 
-/// GetPositionAt queries in flight at once while sampling a track.
-const SAMPLE_CHUNK: usize = 32;
-
 /// Samples per track: about every 20 mm, 16..=256.
 fn sample_count(length: f64) -> usize {
     ((length / 20.0).ceil() as usize).clamp(16, 256)
 }
 
 /// Keeps [`TrackPaths`] up to date: when a track's [`PathKey`] changes, its path is sampled
-/// with GetPositionAt (the engine's own geometry, in the current part positions). The
-/// queries go through the command queue like any other call (their Done events appear on
-/// `~/command_status` without a label).
+/// with GetPositionAt (the engine's own geometry, in the current part positions), read
+/// through the runtime's query path, so sampling issues no commands.
 pub(crate) fn spawn_sampler(shell: &NodeShell<PlanarEngine>, paths: TrackPaths) {
     let handle = shell.handle.clone();
     shell.spawn(async move {
@@ -893,32 +889,24 @@ pub(crate) fn spawn_sampler(shell: &NodeShell<PlanarEngine>, paths: TrackPaths) 
                 }
                 let path = if t.length > 0.0 {
                     let n = sample_count(t.length);
-                    let mut replies = Vec::with_capacity(n + 1);
-                    // In chunks: the queries share the command queue with the clients'
-                    // commands (a full queue would refuse those with 0x7F04).
-                    for chunk in (0..=n).collect::<Vec<_>>().chunks(SAMPLE_CHUNK) {
-                        let calls = chunk.iter().map(|&k| {
-                            handle.call(PlanarCommand::TrackGetPositionAt {
-                                track: t.name.clone(),
-                                arc_length: t.length * k as f64 / n as f64,
-                            })
-                        });
-                        replies.extend(futures::future::join_all(calls).await);
-                    }
-                    let pts: Option<Vec<[f64; 2]>> = replies
-                        .into_iter()
-                        .map(|r| match r {
-                            Ok(PlanarReply {
-                                value: ReplyValue::Position(p),
-                                ..
-                            }) => Some([p.x, p.y]),
-                            _ => None,
+                    let (name, len) = (t.name.clone(), t.length);
+                    // One read-only query per track: no command ids, nothing on
+                    // `~/command_status`, no share of the clients' command queue.
+                    let pts = handle
+                        .query(move |e: &PlanarEngine| {
+                            (0..=n)
+                                .map(|k| {
+                                    e.track_position_at(&name, len * k as f64 / n as f64)
+                                        .map(|p| [p.x, p.y])
+                                })
+                                .collect::<Result<Vec<_>, _>>()
                         })
-                        .collect();
+                        .await;
                     match pts {
-                        Some(p) => p,
-                        // Changed meanwhile (e.g. cleared): the next snapshot retries.
-                        None => continue,
+                        Ok(Ok(p)) => p,
+                        // Changed meanwhile (e.g. cleared) or the queue was full: the
+                        // next snapshot retries.
+                        _ => continue,
                     }
                 } else {
                     Vec::new()

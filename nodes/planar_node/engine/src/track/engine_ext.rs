@@ -64,6 +64,40 @@ fn limits_of(d: &Dynamics) -> Limits {
 }
 
 impl PlanarEngine {
+    /// GetPositionAt without a command: the pose at `arc_length` in the track's current part
+    /// position. Pure, so the shell can sample whole tracks through the runtime's read-only
+    /// query path (drawing markers must not flood `~/command_status`).
+    pub fn track_position_at(
+        &self,
+        track: &str,
+        arc_length: f64,
+    ) -> Result<PositionXYC, Rejection> {
+        let k = self.track(track)?;
+        let who = self.track_who(k);
+        finite(&who, "arc_length", arc_length)?;
+        let t = &self.tracks[k];
+        if t.geo.length() <= 0.0 {
+            return Err(reject(E_INVALID_STATE, format!("{who}: no geometry")));
+        }
+        if !t.geo.closed() && !(0.0..=t.geo.length()).contains(&arc_length) {
+            return Err(reject(
+                E_INVALID_PARAMETER,
+                format!(
+                    "{who}: arc_length = {arc_length} outside [0, {}]",
+                    t.geo.length()
+                ),
+            ));
+        }
+        let mut p = t.geo.pose_at(arc_length);
+        p.p += self.track_shift_at(k, 0);
+        let refid = if self.coordinate_systems.len() == 1 && t.cs == 0 {
+            0
+        } else {
+            t.cs
+        };
+        Ok(PositionXYC::with_ref(p.p.x, p.p.y, p.heading_deg(), refid))
+    }
+
     pub(crate) fn track(&self, name: &str) -> Result<usize, Rejection> {
         self.track_idx
             .get(name)
@@ -841,40 +875,10 @@ impl PlanarEngine {
                 reply(id, ReplyValue::Scalar(s))
             }
             C::TrackGetPositionAt { track, arc_length } => {
-                let k = self.track(&track)?;
-                let who = self.track_who(k);
-                finite(&who, "arc_length", arc_length)?;
-                let t = &self.tracks[k];
-                if t.geo.length() <= 0.0 {
-                    return Err(reject(E_INVALID_STATE, format!("{who}: no geometry")));
-                }
-                if !t.geo.closed() && !(0.0..=t.geo.length()).contains(&arc_length) {
-                    return Err(reject(
-                        E_INVALID_PARAMETER,
-                        format!(
-                            "{who}: arc_length = {arc_length} outside [0, {}]",
-                            t.geo.length()
-                        ),
-                    ));
-                }
-                let mut p = t.geo.pose_at(arc_length);
-                p.p += self.track_shift_at(k, 0);
-                let refid = if self.coordinate_systems.len() == 1 && t.cs == 0 {
-                    0
-                } else {
-                    t.cs
-                };
+                let p = self.track_position_at(&track, arc_length)?;
                 let id = self.new_id();
                 ev(&mut self.pending, id, CommandState::Done);
-                reply(
-                    id,
-                    ReplyValue::Position(PositionXYC::with_ref(
-                        p.p.x,
-                        p.p.y,
-                        p.heading_deg(),
-                        refid,
-                    )),
-                )
+                reply(id, ReplyValue::Position(p))
             }
             C::TrackGetPlanarObjectInfo { track } => {
                 let k = self.track(&track)?;
