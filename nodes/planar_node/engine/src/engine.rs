@@ -1501,6 +1501,12 @@ impl PlanarEngine {
                     m.cs = cs_new;
                     m.envelope = m.footprint();
                 }
+                // Tracks are fixed to their part and move with it (§1.6), also into the
+                // coordinate system of the new position (§1.3, W20 elevator).
+                let part_oid = self.parts[p].oid;
+                for t in self.tracks.iter_mut().filter(|t| t.part_oid == part_oid) {
+                    t.cs = cs_new;
+                }
                 ev(&mut self.pending, id, CommandState::Done);
             }
             let part = &mut self.parts[p];

@@ -2,9 +2,11 @@
 //! part enable coupling of §2.6.
 
 mod common;
+mod track_common;
 use common::*;
 use motion_core::CommandState;
 use planar_engine::*;
+use track_common::{enable_track, join, on_track, position_at};
 
 const CS1: u32 = 0x0101_0090;
 const CS2: u32 = 0x0101_00A0;
@@ -198,4 +200,72 @@ fn w20_force_disable() {
     });
     s.enable("M");
     assert_eq!(s.snap().part("part1").unwrap().state, PlanarState::Enabled);
+}
+
+/// §1.6 / §1.3: a track on Part 3 rides the elevator into the other coordinate system: its
+/// positions are reported in the part's current CS, and a mover that came with the part joins
+/// it and stays on it (s unchanged) through the next move between the systems.
+#[test]
+fn w20_track_follows_its_part_into_the_other_cs() {
+    let mut c = cfg();
+    c.tracks.push(TrackConfig {
+        name: "T3".into(),
+        part_oid: P3,
+        geometry: vec![TrackGeometryItem::Line(TrackLineConfig {
+            start: [30.0, 120.0],
+            end: [210.0, 120.0],
+        })],
+        ..Default::default()
+    });
+    let mut s = Sim::new(c);
+    s.ok(PlanarCommand::PartInitialize {
+        part: "part3".into(),
+        part_oid: P3,
+    });
+    s.step();
+    s.enable("M");
+    // Part 3 starts in CS2 (position index 2).
+    let at = position_at(&mut s, "T3", 90.0);
+    assert_eq!(at.reference_id, CS2);
+    let a = s.ok(PlanarCommand::ActivatePosition {
+        part: "part3".into(),
+        position_index: 1,
+    });
+    assert_eq!(s.wait_final(a, 2.0), CommandState::Done);
+    s.steps(150);
+    let at = position_at(&mut s, "T3", 90.0);
+    assert_eq!(
+        at.reference_id, CS1,
+        "the track is now in CS1 with its part"
+    );
+    assert!(
+        (at.x - 120.0).abs() < 1e-9 && (at.y - 360.0).abs() < 1e-9,
+        "{at:?}"
+    );
+    let mv = s.ok(mtp_ref("M", 120.0, 120.0, 0.0, P3));
+    assert_eq!(s.wait_final(mv, 5.0), CommandState::Done);
+    enable_track(&mut s, "T3");
+    let j = s.ok(join("M", "T3", false));
+    assert_eq!(
+        s.wait_final(j, 5.0),
+        CommandState::Done,
+        "join in the new CS"
+    );
+    s.step();
+    assert!((on_track(&s, "M").set_pos - 90.0).abs() < 1e-6);
+    let a = s.ok(PlanarCommand::ActivatePosition {
+        part: "part3".into(),
+        position_index: 2,
+    });
+    assert_eq!(s.wait_final(a, 2.0), CommandState::Done);
+    s.steps(150);
+    let at = position_at(&mut s, "T3", 90.0);
+    assert_eq!(at.reference_id, CS2);
+    let m = s.mover("M");
+    assert_eq!(m.coordinate_system_oid, CS2);
+    assert_pos(&m, at.x, at.y);
+    assert!(
+        (on_track(&s, "M").set_pos - 90.0).abs() < 1e-6,
+        "s kept on the ride"
+    );
 }
