@@ -400,7 +400,7 @@ impl CaGroup {
         // CA outranks the coupling (§1.10).
         let own_mode = self.mode_of(k);
         let sgc = if cand.vel < 0.0 { -1.0 } else { 1.0 };
-        let (b, _) = self.c4_bound(k, s_motor, sgc, own_mode, false, dt, axes);
+        let (b, _, _) = self.c4_bound(k, s_motor, sgc, own_mode, false, dt, axes);
         let m = &mut self.members[k];
         m.d_ca = m.d_ca.max(dy.d.min(m.dynamics.max_d));
         m.j_ca = m.j_ca.max(dy.j);
@@ -409,7 +409,7 @@ impl CaGroup {
         } else {
             kin(cand).mirror()
         };
-        let ok = b.is_none_or(|b| planner::c4_ok(&b, kc, m.d_ca, m.j_ca));
+        let ok = b.is_none_or(|b| planner::c4_ok(&b, kc, m.d_ca, m.j_ca, dt));
         if !ok {
             gear.in_sync = false;
             gear.cam = None;

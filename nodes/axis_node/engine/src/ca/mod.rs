@@ -23,7 +23,7 @@ use crate::handshake::Handshake;
 use cycle::*;
 use gear::*;
 use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, ExecuteOutputs, Rejection, State1};
-use planner::{stop_point, stop_point_back, Bound, Kin, StepIn};
+use planner::{stop_point, stop_point_back, Bound, Kin, Lead, StepIn};
 use std::collections::HashMap;
 use types::errors as err;
 pub use types::*;
