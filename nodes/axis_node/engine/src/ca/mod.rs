@@ -98,7 +98,9 @@ struct Request {
     dyn_path: Option<geometry::OffsetPath>,
 }
 
-/// The active job of a member.
+/// The active job of a member. `Copy` and stored inline (the coupling variant is the largest):
+/// a box would allocate per command, and the cycle must not allocate.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Job {
     Idle,
