@@ -79,6 +79,8 @@ fn run_with(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirecti
     let mut worst = f64::INFINITY;
     let mut moved = 0.0;
     let mut halts = 0;
+    let mut reversals = 0;
+    let mut unprotected = [false; 10];
     let mut stop_at: Option<usize> = None;
     for cycle in 0..10_000 {
         // Random traffic: on average a new command every 20 cycles, a leader halt every 400.
@@ -200,6 +202,22 @@ fn run_with(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirecti
             if a.gap_target < tgt_prev[k] {
                 floor[k] = floor[k].min(a.gap_target);
             }
+            // Direction Positive: a predecessor moving backward is not limited by this axis
+            // (§1.5); the gap is unprotected until this axis, which planned with the old
+            // position, has come to rest; afterwards G1 applies from the value then. (Forward
+            // targets lie beyond the stop point, but an axis whose deceleration the Fast rule
+            // caps at its predecessor's maximum (§8.6) can overshoot its target and return.)
+            let p = &g.axes[(k + 9) % 10];
+            if direction == GapControlDirection::Positive
+                && (p.velocity < 0.0 || (p.velocity == 0.0 && p.acceleration < 0.0))
+            {
+                reversals += 1;
+                unprotected[k] = true;
+            }
+            if unprotected[k] {
+                floor[k] = floor[k].min(a.gap_actual);
+                unprotected[k] = a.velocity != 0.0 || a.acceleration != 0.0;
+            }
             worst = worst.min(a.gap_actual - floor[k]);
             assert!(
                 a.gap_actual >= floor[k] - 1e-6,
@@ -261,8 +279,11 @@ fn run_with(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirecti
         }
     }
     eprintln!(
-        "seed {seed} {mode:?} {direction:?} unequal {unequal}: moved {moved:.0} mm, {halts} leader halts"
+        "seed {seed} {mode:?} {direction:?} unequal {unequal}: moved {moved:.0} mm, {halts} leader halts, {reversals} cycles with an unprotected reverse predecessor"
     );
+    if !unequal {
+        assert_eq!(reversals, 0, "no reverse moves in direction Positive");
+    }
     assert!(
         moved > 10_000.0,
         "the traffic really moved the train: {moved} mm"
@@ -332,6 +353,18 @@ fn fast_both_random_traffic_with_unequal_axis_maxima_never_violates_a_gap() {
             s,
             DefaultGapControlMode::Fast,
             GapControlDirection::Both,
+            true,
+        );
+    }
+}
+
+#[test]
+fn fast_positive_random_traffic_with_unequal_axis_maxima_never_violates_a_gap() {
+    for s in seeds() {
+        run_with(
+            s,
+            DefaultGapControlMode::Fast,
+            GapControlDirection::Positive,
             true,
         );
     }

@@ -543,13 +543,14 @@ impl CaGroup {
         if fast_dmax.is_finite() {
             // Fast (§8.4, §8.6): committed braking min(own, predecessor's maximum); while the
             // predecessor moves the command's deceleration is capped by its maximum too.
-            // A braking committed earlier (e.g. in Standard) is kept while moving: C4 is
-            // then sampled (planner::sampled_excess).
+            // The braking C4 used in the last cycle stays committed while moving (a softer
+            // one could invalidate a state that was safe, §8.4); if it exceeds the
+            // predecessor's maximum, C4 is sampled (planner::sampled_excess).
             let (d, j) = (ad.max_d.min(fast_dmax), ad.max_j);
             if s.vel == 0.0 && s.acc == 0.0 {
                 (m.d_ca, m.j_ca) = (d, j);
             } else {
-                (m.d_ca, m.j_ca) = (m.d_ca.max(d), m.j_ca.max(j));
+                (m.d_ca, m.j_ca) = (d.max(m.d_b), j.max(m.j_b));
             }
             if lead_moving {
                 dcmd = dcmd.min(fast_dmax);
