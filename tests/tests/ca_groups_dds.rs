@@ -536,6 +536,113 @@ async fn scenario(mapping: ServiceMapping) {
     })
     .await;
 
+    // The §9.4 simulation helpers under ~/sim/.
+    let sim_pos = c
+        .client::<SetPositionRequest, SetPositionResponse>(
+            "/axis_node/sim/set_position",
+            SetPosition::service_type_name(),
+        )
+        .await;
+    let set_c = |position: f64| SetPositionRequest {
+        axis: "c".into(),
+        position,
+        ..Default::default()
+    };
+    let r = call(
+        &sim_pos,
+        "sim/set_position in the enabled group",
+        set_c(50.0),
+    )
+    .await;
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, 0x813E, "{}", r.message);
+    let inject = c
+        .client::<InjectErrorRequest, InjectErrorResponse>(
+            "/axis_node/sim/inject_axis_error",
+            InjectError::service_type_name(),
+        )
+        .await;
+    let r = call(
+        &inject,
+        "sim/inject_axis_error",
+        InjectErrorRequest {
+            axis: "b".into(),
+            error_id: 0,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(r.accepted, "{}", r.message);
+    let s = state_until(&states, "error stop", |s| {
+        s.state == CaGroupState::STATE_GROUP_ERROR_STOP
+    })
+    .await;
+    assert_eq!(s.group_error_id, 0x4550, "error_id 0 = 0x4550");
+    for (name, to) in [
+        ("group_disable", CaGroupState::STATE_GROUP_ERROR_DISABLED),
+        ("group_reset", CaGroupState::STATE_GROUP_DISABLED),
+    ] {
+        let cl = c
+            .client::<CaGroupCommandRequest, CaGroupCommandResponse>(
+                &format!("{NS}/{name}"),
+                CaGroupCommand::service_type_name(),
+            )
+            .await;
+        let r = call(&cl, name, CaGroupCommandRequest::default()).await;
+        assert!(r.accepted, "{name}: {}", r.message);
+        state_until(&states, name, |s| s.state == to).await;
+    }
+    // Disabled group: set_position and set_axis_power act on the axis.
+    let r = call(
+        &sim_pos,
+        "sim/set_position in a disabled group",
+        set_c(50.0),
+    )
+    .await;
+    assert!(r.accepted, "{}", r.message);
+    state_until(&states, "c at 50", |s| {
+        s.axes
+            .iter()
+            .any(|a| a.name == "c" && (a.position - 50.0).abs() < 1e-9)
+    })
+    .await;
+    let sim_power = c
+        .client::<PowerRequest, PowerResponse>(
+            "/axis_node/sim/set_axis_power",
+            Power::service_type_name(),
+        )
+        .await;
+    let r = call(
+        &sim_power,
+        "sim/set_axis_power",
+        PowerRequest {
+            axis: "c".into(),
+            enable: false,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(r.accepted && !r.status, "{r:?}");
+    let r = call(
+        &enable,
+        "group_enable with c unpowered",
+        CaGroupCommandRequest::default(),
+    )
+    .await;
+    assert!(r.accepted, "{}", r.message);
+    state_until(&states, "not ready", |s| {
+        s.state == CaGroupState::STATE_GROUP_NOT_READY
+    })
+    .await;
+    let step = c
+        .client::<StepCyclesRequest, StepCyclesResponse>(
+            "/axis_node/sim/step",
+            StepCycles::service_type_name(),
+        )
+        .await;
+    let r = call(&step, "sim/step", StepCyclesRequest { cycles: 3 }).await;
+    assert!(r.accepted && r.cycle_index > 0, "{r:?}");
+
     drop(c);
     node.stop().await;
 }

@@ -407,6 +407,7 @@ where
 
 /// Registers every configured CA group (names from the engine's snapshot).
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
+    register_sim(shell)?;
     let snap = shell.handle.snapshot();
     let axes: Vec<String> = snap.state.axes.iter().map(|a| a.name.clone()).collect();
     let groups: Vec<String> = snap
@@ -424,6 +425,55 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
         register_group(shell, &ctx)?;
     }
     Ok(())
+}
+
+/// Default error id of `~/sim/inject_axis_error` (§9.4, as the single-axis spec).
+const DEFAULT_INJECTED_AXIS_ERROR: u32 = 0x4550;
+
+/// The simulation helpers of collision_avoidance.md §9.4 under `~/sim/`, on the existing
+/// blocks and hooks: `step` (lockstep, the runtime's `~/step`), `set_position` (MC_SetPosition,
+/// refused with 0x813E while the axis is in an enabled group), `inject_axis_error` (the
+/// `~/sim/inject_error` hook; `error_id` 0 = 0x4550), `set_axis_power` (MC_Power's level).
+fn register_sim(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
+    if shell.settings.lockstep {
+        shell.step_service("sim/step")?;
+    }
+    shell.command_service(
+        "sim/set_position",
+        SetPosition::service_type_name(),
+        crate::services::decode_set_position,
+        crate::services::respond::<SetPositionResponse>,
+    )?;
+    shell.command_service(
+        "sim/set_axis_power",
+        Power::service_type_name(),
+        crate::services::decode_power,
+        crate::services::respond_power,
+    )?;
+    shell.command_service(
+        "sim/inject_axis_error",
+        InjectError::service_type_name(),
+        |r: InjectErrorRequest| {
+            let l = label(&r.axis, "sim/inject_axis_error");
+            let error_id = match r.error_id {
+                0 => DEFAULT_INJECTED_AXIS_ERROR,
+                e => e,
+            };
+            let sim = if r.drive_fault {
+                axis_engine::Sim::DriveFault {
+                    axis: r.axis,
+                    error_id,
+                }
+            } else {
+                axis_engine::Sim::InjectAxisError {
+                    axis: r.axis,
+                    error_id,
+                }
+            };
+            Ok((AxisCommand::Sim(sim), l))
+        },
+        crate::services::respond::<InjectErrorResponse>,
+    )
 }
 
 fn register_group(
