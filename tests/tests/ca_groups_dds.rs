@@ -11,7 +11,7 @@ use motion_msgs::action::{
     MoveAbsoluteCaFeedback, MoveAbsoluteCaGoal, MoveAbsoluteCaResult, MoveRelativeCa,
     MoveRelativeCaFeedback, MoveRelativeCaGoal, MoveRelativeCaResult,
 };
-use motion_msgs::msg::{CaGroupState, CommandStatus, McLreal};
+use motion_msgs::msg::{CaAxisState, CaGroupState, CommandStatus, McLreal};
 use motion_msgs::srv::*;
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, Message, ServiceMapping};
@@ -355,7 +355,11 @@ async fn scenario(mapping: ServiceMapping) {
         },
     )
     .await;
-    state_until(&states, "c moving", |s| s.axes[2].velocity > 10.0).await;
+    let s = state_until(&states, "c moving", |s| s.axes[2].velocity > 10.0).await;
+    assert_eq!(
+        s.axes[2].command_kind,
+        CaAxisState::COMMAND_KIND_MOVE_RELATIVE
+    );
     let cr = within(
         10.0,
         "cancel",
@@ -371,6 +375,7 @@ async fn scenario(mapping: ServiceMapping) {
     assert!(result.command_aborted && !result.done);
     let s = state_until(&states, "c halted", |s| s.all_axes_standing).await;
     assert!(s.axes[2].position > 0.0 && s.axes[2].position < 300.0);
+    assert_eq!(s.axes[2].command_kind, CaAxisState::COMMAND_KIND_NONE);
 
     // MC_GearInPosCA: c follows the ungrouped master m (s* = 300 + m - 100), Early; the goal
     // succeeds at InSync and the coupling runs on (the state shows InSync).
@@ -398,20 +403,16 @@ async fn scenario(mapping: ServiceMapping) {
             &GearInPosCa::action_type_name(),
         )
         .await;
-    let (gid, _) = send_goal(
-        &gear,
-        "gear goal",
-        GearInPosCaGoal {
-            master: "m".into(),
-            slave: "c".into(),
-            master_sync_position: value(100.0),
-            slave_sync_position: value(300.0),
-            sync_strategy: GearInPosCaGoal::SYNC_STRATEGY_EARLY,
-            velocity: value(1000.0),
-            ..Default::default()
-        },
-    )
-    .await;
+    let gear_goal = GearInPosCaGoal {
+        master: "m".into(),
+        slave: "c".into(),
+        master_sync_position: value(100.0),
+        slave_sync_position: value(300.0),
+        sync_strategy: GearInPosCaGoal::SYNC_STRATEGY_EARLY,
+        velocity: value(1000.0),
+        ..Default::default()
+    };
+    let (gid, _) = send_goal(&gear, "gear goal", gear_goal.clone()).await;
     let (status, result) = within(30.0, "gear result", gear.async_request_result(gid))
         .await
         .unwrap();
@@ -420,7 +421,69 @@ async fn scenario(mapping: ServiceMapping) {
     assert_ne!(result.command_id, 0);
     let s = state_until(&states, "c in sync", |s| s.axes[2].in_sync).await;
     assert_eq!(s.axes[2].active_command_id, result.command_id);
+    assert_eq!(
+        s.axes[2].command_kind,
+        CaAxisState::COMMAND_KIND_GEAR_IN_POS
+    );
     assert!(!s.axes[2].start_sync);
+
+    // ST_GearInPosCAOptions (§5.5.2) reach the engine: its ids for bad values, and a
+    // re-coupling with restrictions, MinimalSlavePosition and MasterSignalCorrection None.
+    let refused = [
+        (
+            GearInPosCaGoal {
+                minimal_slave_position: McLreal {
+                    kind: McLreal::DEFAULT,
+                    value: 0.0,
+                },
+                ..gear_goal.clone()
+            },
+            0x8F0A, // INVALID_SYNC_OPTIONS
+        ),
+        (
+            GearInPosCaGoal {
+                dynamics_reference_system: 0x0101_0010,
+                ..gear_goal.clone()
+            },
+            0x8F0C, // COMPENSATION_ERROR: no template registered
+        ),
+        (
+            GearInPosCaGoal {
+                slave_sync_position_reference_system: 0x0101_0010,
+                ..gear_goal.clone()
+            },
+            0x8F0C,
+        ),
+    ];
+    for (g, id) in refused {
+        let (gid, _) = send_goal(&gear, "refused gear goal", g).await;
+        let (status, result) = within(20.0, "refused gear result", gear.async_request_result(gid))
+            .await
+            .unwrap();
+        assert_eq!(status, GoalStatusEnum::Aborted);
+        assert_eq!(result.error_id, id, "{}", result.message);
+    }
+    let c_pos = s.axes[2].position;
+    let (gid, _) = send_goal(
+        &gear,
+        "gear goal with options",
+        GearInPosCaGoal {
+            forbid_direction_reversal: true,
+            forbid_master_velocity_undershoot: true,
+            minimal_slave_position: value(c_pos - 1000.0),
+            master_signal_correction: 1,
+            ..gear_goal.clone()
+        },
+    )
+    .await;
+    let (status, result) = within(30.0, "options gear result", gear.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+    state_until(&states, "c in sync again", |s| {
+        s.axes[2].in_sync && s.axes[2].active_command_id == result.command_id
+    })
+    .await;
 
     // MC_GroupStop: Stopping while Execute is held, Standby after the falling edge.
     let stop = c
@@ -472,6 +535,113 @@ async fn scenario(mapping: ServiceMapping) {
         s.state == CaGroupState::STATE_GROUP_STANDBY
     })
     .await;
+
+    // The §9.4 simulation helpers under ~/sim/.
+    let sim_pos = c
+        .client::<SetPositionRequest, SetPositionResponse>(
+            "/axis_node/sim/set_position",
+            SetPosition::service_type_name(),
+        )
+        .await;
+    let set_c = |position: f64| SetPositionRequest {
+        axis: "c".into(),
+        position,
+        ..Default::default()
+    };
+    let r = call(
+        &sim_pos,
+        "sim/set_position in the enabled group",
+        set_c(50.0),
+    )
+    .await;
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, 0x813E, "{}", r.message);
+    let inject = c
+        .client::<InjectErrorRequest, InjectErrorResponse>(
+            "/axis_node/sim/inject_axis_error",
+            InjectError::service_type_name(),
+        )
+        .await;
+    let r = call(
+        &inject,
+        "sim/inject_axis_error",
+        InjectErrorRequest {
+            axis: "b".into(),
+            error_id: 0,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(r.accepted, "{}", r.message);
+    let s = state_until(&states, "error stop", |s| {
+        s.state == CaGroupState::STATE_GROUP_ERROR_STOP
+    })
+    .await;
+    assert_eq!(s.group_error_id, 0x4550, "error_id 0 = 0x4550");
+    for (name, to) in [
+        ("group_disable", CaGroupState::STATE_GROUP_ERROR_DISABLED),
+        ("group_reset", CaGroupState::STATE_GROUP_DISABLED),
+    ] {
+        let cl = c
+            .client::<CaGroupCommandRequest, CaGroupCommandResponse>(
+                &format!("{NS}/{name}"),
+                CaGroupCommand::service_type_name(),
+            )
+            .await;
+        let r = call(&cl, name, CaGroupCommandRequest::default()).await;
+        assert!(r.accepted, "{name}: {}", r.message);
+        state_until(&states, name, |s| s.state == to).await;
+    }
+    // Disabled group: set_position and set_axis_power act on the axis.
+    let r = call(
+        &sim_pos,
+        "sim/set_position in a disabled group",
+        set_c(50.0),
+    )
+    .await;
+    assert!(r.accepted, "{}", r.message);
+    state_until(&states, "c at 50", |s| {
+        s.axes
+            .iter()
+            .any(|a| a.name == "c" && (a.position - 50.0).abs() < 1e-9)
+    })
+    .await;
+    let sim_power = c
+        .client::<PowerRequest, PowerResponse>(
+            "/axis_node/sim/set_axis_power",
+            Power::service_type_name(),
+        )
+        .await;
+    let r = call(
+        &sim_power,
+        "sim/set_axis_power",
+        PowerRequest {
+            axis: "c".into(),
+            enable: false,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(r.accepted && !r.status, "{r:?}");
+    let r = call(
+        &enable,
+        "group_enable with c unpowered",
+        CaGroupCommandRequest::default(),
+    )
+    .await;
+    assert!(r.accepted, "{}", r.message);
+    state_until(&states, "not ready", |s| {
+        s.state == CaGroupState::STATE_GROUP_NOT_READY
+    })
+    .await;
+    let step = c
+        .client::<StepCyclesRequest, StepCyclesResponse>(
+            "/axis_node/sim/step",
+            StepCycles::service_type_name(),
+        )
+        .await;
+    let r = call(&step, "sim/step", StepCyclesRequest { cycles: 3 }).await;
+    assert!(r.accepted && r.cycle_index > 0, "{r:?}");
 
     drop(c);
     node.stop().await;

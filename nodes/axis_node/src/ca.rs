@@ -16,14 +16,13 @@
 //! - Screening in the shell: an axis that is not configured is 0x7F01, a non-finite number
 //!   0x7F02, a McLreal `kind` above 4 0x7F03; an axis that the latest state shows in another
 //!   CA group is AXIS_NOT_IN_GROUP (0x8F08). Enums go through the engine's `from_raw` and are
-//!   refused with its ids (INVALID_MODE 0x4B04, INVALID_BUFFER_MODE 0x813C). GearInPosCA
-//!   options the engine does not model (DirectionReversalAllowed FALSE, MinimalSlavePosition,
-//!   the reference systems) are refused with 0x7F07 unless left at their presets.
+//!   refused with its ids (INVALID_MODE 0x4B04, INVALID_BUFFER_MODE 0x813C). Every
+//!   GearInPosCA option goes to the engine (§5.5.2).
 
 use crate::services::{label, Outcome};
 use axis_engine::ca::{
     self, CaAxisStatus, CaBufferMode, CaCommand, CaDirection, CaGroupStatus, CaValue,
-    GapControlMode, SyncMode, SyncStrategy,
+    GapControlMode, MasterSignalCorrection, SyncMode, SyncStrategy,
 };
 use axis_engine::{AxisCommand, AxisEngine, AxisReply, AxisSnapshot, ReplyValue};
 use motion_core::{CmdId, CommandState, Engine, ErrorId, ExecuteOutputs, Rejection};
@@ -106,13 +105,6 @@ fn finite(v: f64, object: &str, field: &str) -> Result<f64, Rejection> {
     } else {
         Err(Rejection::not_finite(object, field, v))
     }
-}
-
-fn not_implemented(fb: &str, what: &str) -> Rejection {
-    Rejection::new(
-        ErrorId::NOT_IMPLEMENTED,
-        format!("{fb}: {what} is not implemented by the simulator (leave it at its preset)"),
-    )
 }
 
 /// The four answer fields: `command_id` only for instances whose outputs follow.
@@ -415,6 +407,7 @@ where
 
 /// Registers every configured CA group (names from the engine's snapshot).
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
+    register_sim(shell)?;
     let snap = shell.handle.snapshot();
     let axes: Vec<String> = snap.state.axes.iter().map(|a| a.name.clone()).collect();
     let groups: Vec<String> = snap
@@ -432,6 +425,55 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
         register_group(shell, &ctx)?;
     }
     Ok(())
+}
+
+/// Default error id of `~/sim/inject_axis_error` (§9.4, as the single-axis spec).
+const DEFAULT_INJECTED_AXIS_ERROR: u32 = 0x4550;
+
+/// The simulation helpers of collision_avoidance.md §9.4 under `~/sim/`, on the existing
+/// blocks and hooks: `step` (lockstep, the runtime's `~/step`), `set_position` (MC_SetPosition,
+/// refused with 0x813E while the axis is in an enabled group), `inject_axis_error` (the
+/// `~/sim/inject_error` hook; `error_id` 0 = 0x4550), `set_axis_power` (MC_Power's level).
+fn register_sim(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
+    if shell.settings.lockstep {
+        shell.step_service("sim/step")?;
+    }
+    shell.command_service(
+        "sim/set_position",
+        SetPosition::service_type_name(),
+        crate::services::decode_set_position,
+        crate::services::respond::<SetPositionResponse>,
+    )?;
+    shell.command_service(
+        "sim/set_axis_power",
+        Power::service_type_name(),
+        crate::services::decode_power,
+        crate::services::respond_power,
+    )?;
+    shell.command_service(
+        "sim/inject_axis_error",
+        InjectError::service_type_name(),
+        |r: InjectErrorRequest| {
+            let l = label(&r.axis, "sim/inject_axis_error");
+            let error_id = match r.error_id {
+                0 => DEFAULT_INJECTED_AXIS_ERROR,
+                e => e,
+            };
+            let sim = if r.drive_fault {
+                axis_engine::Sim::DriveFault {
+                    axis: r.axis,
+                    error_id,
+                }
+            } else {
+                axis_engine::Sim::InjectAxisError {
+                    axis: r.axis,
+                    error_id,
+                }
+            };
+            Ok((AxisCommand::Sim(sim), l))
+        },
+        crate::services::respond::<InjectErrorResponse>,
+    )
 }
 
 fn register_group(
@@ -594,6 +636,7 @@ fn axis_state(a: &CaAxisStatus) -> CaAxisState {
         velocity: a.velocity,
         acceleration: a.acceleration,
         active_command_id: a.active_command_id.map_or(0, |c| c.0),
+        command_kind: a.command_kind.raw() as u8,
         gap_target: a.gap_target,
         gap_actual: a.gap_actual,
         ca_limited: a.ca_limited,
@@ -838,31 +881,6 @@ fn decode_gear_in_pos(c: &GroupCtx, g: &GearInPosCaGoal) -> Decoded {
     let slave = c.member(&g.slave)?;
     let master = c.known(&g.master)?;
     let o = "MC_GearInPosCA";
-    if g.forbid_direction_reversal {
-        return Err(not_implemented(o, "DirectionReversalAllowed = FALSE"));
-    }
-    if !matches!(
-        g.minimal_slave_position.kind,
-        McLreal::UNSET | McLreal::IGNORE
-    ) {
-        lreal(&g.minimal_slave_position, o, "minimal_slave_position")?;
-        return Err(not_implemented(o, "MinimalSlavePosition"));
-    }
-    if g.slave_sync_position_reference_system != 0 {
-        return Err(not_implemented(o, "SlaveSyncPositionReferenceSystem"));
-    }
-    if g.dynamics_reference_system != 0 {
-        return Err(not_implemented(o, "DynamicsReferenceSystem"));
-    }
-    if g.master_signal_correction > 1 {
-        return Err(Rejection::new(
-            ca::types::errors::INVALID_MODE,
-            format!(
-                "MasterSignalCorrection = {} is not a valid MC_MASTER_SIGNAL_CORRECTION",
-                g.master_signal_correction
-            ),
-        ));
-    }
     let cmd = ca::GearInPosCa {
         master,
         slave: slave.clone(),
@@ -891,6 +909,13 @@ fn decode_gear_in_pos(c: &GroupCtx, g: &GearInPosCaGoal) -> Decoded {
         after_sync_deceleration: lreal(&g.after_sync_deceleration, o, "after_sync_deceleration")?,
         after_sync_jerk: lreal(&g.after_sync_jerk, o, "after_sync_jerk")?,
         override_slave_dynamic_restrictions: g.override_slave_dynamic_restrictions,
+        forbid_direction_reversal: g.forbid_direction_reversal,
+        minimal_slave_position: lreal(&g.minimal_slave_position, o, "minimal_slave_position")?,
+        slave_sync_position_reference_system: g.slave_sync_position_reference_system,
+        dynamics_reference_system: g.dynamics_reference_system,
+        master_signal_correction: MasterSignalCorrection::from_raw(u32::from(
+            g.master_signal_correction,
+        ))?,
     };
     Ok((
         AxisCommand::Ca(CaCommand::GearInPos(cmd)),

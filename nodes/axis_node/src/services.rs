@@ -50,7 +50,7 @@ pub(crate) fn move_options(
     }
 }
 
-fn decode_power(r: PowerRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
+pub(crate) fn decode_power(r: PowerRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "power");
     Ok((
         AxisCommand::Power(axis_engine::Power {
@@ -65,7 +65,7 @@ fn decode_power(r: PowerRequest) -> Result<(AxisCommand, CommandLabel), Rejectio
     ))
 }
 
-fn respond_power(o: Outcome) -> PowerResponse {
+pub(crate) fn respond_power(o: Outcome) -> PowerResponse {
     let status = matches!(
         &o,
         Ok(AxisReply {
@@ -184,7 +184,9 @@ pub(crate) fn decode_halt(r: HaltRequest) -> Result<(AxisCommand, CommandLabel),
     ))
 }
 
-fn decode_set_position(r: SetPositionRequest) -> Result<(AxisCommand, CommandLabel), Rejection> {
+pub(crate) fn decode_set_position(
+    r: SetPositionRequest,
+) -> Result<(AxisCommand, CommandLabel), Rejection> {
     let l = label(&r.axis, "set_position");
     Ok((
         AxisCommand::SetPosition(axis_engine::SetPosition {

@@ -431,10 +431,16 @@ where
     }
 
     fn spawn_step_service(&mut self) -> Result<(), ShellError> {
+        self.step_service("step")
+    }
+
+    /// Serves the lockstep step (`StepCycles`) under `~/<name>`; `~/step` is served by
+    /// `start` in lockstep, a node may offer it under another name too (e.g. `sim/step`).
+    pub fn step_service(&mut self, name: &str) -> Result<(), ShellError> {
         let handle = self.handle.clone();
         let period = handle.config().period;
         self.service::<StepCyclesRequest, StepCyclesResponse, _, _>(
-            "step",
+            name,
             StepCycles::service_type_name(),
             move |req: StepCyclesRequest| {
                 let handle = handle.clone();

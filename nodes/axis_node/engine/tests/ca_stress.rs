@@ -5,6 +5,9 @@
 //!
 //! Asserts every cycle: no pair gap below its effective gap − 1e-6 (all start ≥ gap),
 //! |v| ≤ V_max (1 + 1e-5), |a| ≤ A/D_max (1 + 1e-6), |Δa| ≤ J_max·T (1 + 1e-6) for every axis.
+//! The Fast runs with unequal axis maxima (every axis its own V/A/D/J maxima) exercise the
+//! Fast precondition of §8.6: the follower's deceleration capped by its predecessor's maximum
+//! and the sampled C4 when it already brakes harder.
 
 mod ca_common;
 use axis_engine::ca::*;
@@ -20,20 +23,52 @@ fn mcl(v: f64) -> McLreal {
     McLreal::Value(v)
 }
 
+/// Axis maxima (velocity, acceleration, deceleration, jerk).
+type Maxima = (f64, f64, f64, f64);
+
 fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
+    run_with(seed, mode, direction, false)
+}
+
+/// `unequal`: every axis gets its own random maxima (V 1000..2000, A and D 5000..20000,
+/// J 50 000..200 000); commands and halts ask for up to the common maxima and are clamped.
+fn run_with(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection, unequal: bool) {
     let mut rng = StdRng::seed_from_u64(seed);
     let names: Vec<String> = (1..=10).map(|i| format!("M{i}")).collect();
-    let m: Vec<(&str, f64)> = names
+    let maxima: Vec<Maxima> = (0..10)
+        .map(|_| {
+            if unequal {
+                (
+                    rng.gen_range(1000.0..VMAX),
+                    rng.gen_range(5000.0..AMAX),
+                    rng.gen_range(5000.0..AMAX),
+                    rng.gen_range(50000.0..JMAX),
+                )
+            } else {
+                (VMAX, AMAX, AMAX, JMAX)
+            }
+        })
+        .collect();
+    let axes: Vec<(String, axis_engine::AxisConfig)> = names
         .iter()
+        .zip(&maxima)
         .enumerate()
-        .map(|(i, n)| (n.as_str(), 2700.0 - i as f64 * 300.0))
+        .map(|(i, (n, &(v, a, d, j)))| {
+            let mut c = axis_engine::ca::bench::ca_axis_config(2700.0 - i as f64 * 300.0);
+            c.max_velocity = v;
+            c.fast_acceleration = a;
+            c.fast_deceleration = d;
+            c.fast_jerk = j;
+            (n.clone(), c)
+        })
         .collect();
     let cfg = CaGroupConfig {
         default_gap_control_mode: mode,
         gap_control_direction: direction,
         ..ring(3000.0)
     };
-    let mut r = CaRig::new(&m, cfg);
+    let mut r = CaRig::with_axes(&axes, cfg);
+    let max_of = |name: &str| maxima[names.iter().position(|n| n == name).unwrap()];
     let mut prev_a = [0.0; 10];
     // G1 floor per CA position: the effective gap, or (after an increase of the effective gap
     // of an axis below it) the previous value until regained or stopped, then never
@@ -44,6 +79,8 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
     let mut worst = f64::INFINITY;
     let mut moved = 0.0;
     let mut halts = 0;
+    let mut reversals = 0;
+    let mut unprotected = [false; 10];
     let mut stop_at: Option<usize> = None;
     for cycle in 0..10_000 {
         // Random traffic: on average a new command every 20 cycles, a leader halt every 400.
@@ -69,8 +106,8 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
                     v: st.velocity.max(0.0),
                     a: st.acceleration,
                 },
-                dec.max(-st.acceleration),
-                jerk,
+                dec.min(maxima[i].2).max(-st.acceleration),
+                jerk.min(maxima[i].3),
             ) + 1.0;
             let d = rng.gen_range(reach..reach + 2000.0);
             let d = if backward {
@@ -161,8 +198,25 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
         r.step();
         let g = r.group();
         for (k, a) in g.axes.iter().enumerate() {
+            let (vmax, amax, dmax, jmax) = max_of(&a.name);
             if a.gap_target < tgt_prev[k] {
                 floor[k] = floor[k].min(a.gap_target);
+            }
+            // Direction Positive: a predecessor moving backward is not limited by this axis
+            // (§1.5); the gap is unprotected until this axis, which planned with the old
+            // position, has come to rest; afterwards G1 applies from the value then. (Forward
+            // targets lie beyond the stop point, but an axis whose deceleration the Fast rule
+            // caps at its predecessor's maximum (§8.6) can overshoot its target and return.)
+            let p = &g.axes[(k + 9) % 10];
+            if direction == GapControlDirection::Positive
+                && (p.velocity < 0.0 || (p.velocity == 0.0 && p.acceleration < 0.0))
+            {
+                reversals += 1;
+                unprotected[k] = true;
+            }
+            if unprotected[k] {
+                floor[k] = floor[k].min(a.gap_actual);
+                unprotected[k] = a.velocity != 0.0 || a.acceleration != 0.0;
             }
             worst = worst.min(a.gap_actual - floor[k]);
             assert!(
@@ -197,30 +251,39 @@ fn run(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirection) {
             }
             tgt_prev[k] = tgt;
             assert!(
-                a.velocity.abs() <= VMAX * (1.0 + 1e-5),
-                "{} v {}",
+                a.velocity.abs() <= vmax * (1.0 + 1e-5),
+                "seed {seed} cycle {cycle}: {} v {} > {vmax}",
                 a.name,
                 a.velocity
             );
+            // Acceleration in the direction of travel, deceleration against it.
+            let braking = a.acceleration * a.velocity < 0.0;
+            let alim = if braking { dmax } else { amax.max(dmax) };
             assert!(
-                a.acceleration.abs() <= AMAX * (1.0 + 1e-6),
-                "{} a {}",
+                a.acceleration.abs() <= alim * (1.0 + 1e-6),
+                "seed {seed} cycle {cycle}: {} a {} (v {}) > {alim}",
                 a.name,
-                a.acceleration
+                a.acceleration,
+                a.velocity
             );
             let da = (a.acceleration - prev_a[k]).abs();
             assert!(
-                da <= JMAX * T * (1.0 + 1e-6),
+                da <= jmax * T * (1.0 + 1e-6),
                 "seed {seed} cycle {cycle}: {} jerk {} > {}",
                 a.name,
                 da / T,
-                JMAX
+                jmax
             );
             prev_a[k] = a.acceleration;
             moved += a.velocity.abs() * T;
         }
     }
-    eprintln!("seed {seed} {mode:?} {direction:?}: moved {moved:.0} mm, {halts} leader halts");
+    eprintln!(
+        "seed {seed} {mode:?} {direction:?} unequal {unequal}: moved {moved:.0} mm, {halts} leader halts, {reversals} cycles with an unprotected reverse predecessor"
+    );
+    if !unequal {
+        assert_eq!(reversals, 0, "no reverse moves in direction Positive");
+    }
     assert!(
         moved > 10_000.0,
         "the traffic really moved the train: {moved} mm"
@@ -280,5 +343,29 @@ fn standard_both_random_traffic_with_reverse_moves_never_violates_a_gap() {
 fn fast_both_random_traffic_with_reverse_moves_never_violates_a_gap() {
     for s in seeds() {
         run(s, DefaultGapControlMode::Fast, GapControlDirection::Both);
+    }
+}
+
+#[test]
+fn fast_both_random_traffic_with_unequal_axis_maxima_never_violates_a_gap() {
+    for s in seeds() {
+        run_with(
+            s,
+            DefaultGapControlMode::Fast,
+            GapControlDirection::Both,
+            true,
+        );
+    }
+}
+
+#[test]
+fn fast_positive_random_traffic_with_unequal_axis_maxima_never_violates_a_gap() {
+    for s in seeds() {
+        run_with(
+            s,
+            DefaultGapControlMode::Fast,
+            GapControlDirection::Positive,
+            true,
+        );
     }
 }

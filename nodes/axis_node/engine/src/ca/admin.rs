@@ -331,25 +331,36 @@ impl CaGroups {
                 let ssp = pos(c.slave_sync_position, "SlaveSyncPosition")?;
                 let cfg = &self.groups[g].cfg;
                 let x = axes[self.groups[g].members[k].axis].set.pos;
+                // SlaveSyncPositionReferenceSystem: an offset-path coordinate (§5.9), taken
+                // to the motor path; a modulo value lies within one offset-path lap.
+                let ssp_path = match c.slave_sync_position_reference_system {
+                    0 => None,
+                    oid => Some(self.groups[g].reference_path(k, oid)?),
+                };
+                let lap = ssp_path.map_or(cfg.rail_length, |p| p.to_offset(cfg.rail_length));
+                let to_motor = |v: f64| ssp_path.map_or(v, |p| p.from_offset(v));
                 let ssp = match c.sync_mode {
-                    SyncMode::NonModulo => ssp,
+                    SyncMode::NonModulo => to_motor(ssp),
                     _ if !cfg.rail_is_ring => {
                         return Err(rej(
                             err::MODULO_ON_OPEN_RAIL,
                             format!("{fb}: SyncMode {:?} needs a ring", c.sync_mode),
                         ))
                     }
-                    _ if !(0.0..cfg.rail_length).contains(&ssp) => {
+                    _ if !(0.0..lap).contains(&ssp) => {
                         return Err(rej(
                             err::INVALID_TARGET_POSITION,
-                            format!(
-                                "{fb}: modulo SlaveSyncPosition {ssp} outside [0, {})",
-                                cfg.rail_length
-                            ),
+                            format!("{fb}: modulo SlaveSyncPosition {ssp} outside [0, {lap})"),
                         ))
                     }
-                    SyncMode::Positive => x + (ssp - x).rem_euclid(cfg.rail_length),
-                    SyncMode::Negative => x - (x - ssp).rem_euclid(cfg.rail_length),
+                    mode => {
+                        let ssp = to_motor(ssp).rem_euclid(cfg.rail_length);
+                        if mode == SyncMode::Positive {
+                            x + (ssp - x).rem_euclid(cfg.rail_length)
+                        } else {
+                            x - (x - ssp).rem_euclid(cfg.rail_length)
+                        }
+                    }
                 };
                 let start_distance = match c.master_start_distance {
                     McLreal::Unset | McLreal::Ignore => None,
@@ -367,6 +378,16 @@ impl CaGroups {
                         format!("{fb}: undershoot and overshoot both forbidden"),
                     ));
                 }
+                let min_pos = match c.minimal_slave_position {
+                    McLreal::Unset | McLreal::Ignore => f64::NEG_INFINITY,
+                    McLreal::Value(v) if v.is_finite() => v,
+                    other => {
+                        return Err(rej(
+                            err::INVALID_SYNC_OPTIONS,
+                            format!("{fb}.MinimalSlavePosition = {other:?}"),
+                        ))
+                    }
+                };
                 let num = match c.ratio_numerator {
                     McLreal::Unset | McLreal::Default => 1.0,
                     McLreal::Value(v) if v.is_finite() => v,
@@ -421,11 +442,14 @@ impl CaGroups {
                         x => resolve_jerk(x, ad.def_j, ad.max_j, false)?,
                     },
                 };
+                // DynamicsReferenceSystem: the coupling runs on the offset path (§5.9).
+                let dyn_path = self.groups[g].dyn_path(k, c.dynamics_reference_system)?;
+                let work = |v: f64| dyn_path.map_or(v, |p| p.to_offset(v));
                 let gear = Gear {
                     master,
                     ratio: num / c.ratio_denumerator as f64,
                     msp,
-                    ssp,
+                    ssp: work(ssp),
                     strategy: c.sync_strategy,
                     started: false,
                     start_distance,
@@ -435,7 +459,18 @@ impl CaGroups {
                     in_sync: false,
                     failed: false,
                     cam: None,
-                    target: axes[self.groups[g].members[k].axis].set.pos,
+                    late_start: None,
+                    limits: SyncLimits {
+                        min_pos: if min_pos.is_finite() {
+                            work(min_pos)
+                        } else {
+                            min_pos
+                        },
+                        no_reversal: c.forbid_direction_reversal,
+                        no_undershoot: c.forbid_master_velocity_undershoot,
+                        no_overshoot: c.forbid_master_velocity_overshoot,
+                    },
+                    target: x,
                 };
                 let req = Request {
                     owner: None,
@@ -444,7 +479,7 @@ impl CaGroups {
                     gap,
                     mode: c.gap_control_mode,
                     continuous_update: c.continuous_update,
-                    dyn_path: None,
+                    dyn_path,
                 };
                 self.start(g, k, req, c.buffer_mode, CaFbKind::GearInPos, axes, fbs)
             }

@@ -32,11 +32,21 @@ pub fn ca_engine(
     cfg: CaGroupConfig,
     dt: f64,
 ) -> Result<AxisEngine, motion_core::Rejection> {
-    let axes = movers
+    let axes: Vec<(String, AxisConfig)> = movers
         .iter()
         .map(|(n, x)| (n.clone(), ca_axis_config(*x)))
         .collect();
-    let mut e = AxisEngine::new(axes)?;
+    ca_engine_with(&axes, group, cfg, dt)
+}
+
+/// [`ca_engine`] with an own configuration per axis (e.g. unequal maxima).
+pub fn ca_engine_with(
+    movers: &[(String, AxisConfig)],
+    group: &str,
+    cfg: CaGroupConfig,
+    dt: f64,
+) -> Result<AxisEngine, motion_core::Rejection> {
+    let mut e = AxisEngine::new(movers.to_vec())?;
     e.add_ca_group(group, cfg)?;
     for (n, _) in movers {
         e.command(AxisCommand::Power(Power {

@@ -288,6 +288,24 @@ pub(super) fn frame_sign(s: State1, job: &Job, retreat: f64) -> f64 {
     }
 }
 
+/// C4-Fast in the forward frame (§8.6) for a predecessor at `x` (minus the gap) with velocity
+/// `v ≥ 0` and maximum deceleration `d`: `x' ≤ x̂` (its predicted position, when its state is
+/// from the start of the cycle) and `StopPoint ≤ x + v²/(2d)`; `lead` for the sampled form.
+fn fast_bound(x: f64, v: f64, d: f64, updated: bool, dt: f64) -> Bound {
+    let v = v.max(0.0);
+    let lead = Lead {
+        x,
+        v,
+        d,
+        t0: if updated { 0.0 } else { dt },
+    };
+    Bound {
+        pos_bound: lead.at(lead.t0),
+        stop_bound: x + v * v / (2.0 * d),
+        lead: Some(lead),
+    }
+}
+
 pub(super) fn moving_back(s: State1) -> bool {
     s.vel < 0.0 || (s.vel == 0.0 && s.acc < 0.0)
 }
@@ -331,8 +349,9 @@ impl CaGroup {
         }
     }
 
-    /// The pair constraint C4 of member `k` in frame `sg` (§1.5, §8.6) and, in Fast mode, the
-    /// neighbour's maximum deceleration (else +inf).
+    /// The pair constraint C4 of member `k` in frame `sg` (§1.5, §8.6), in Fast mode the
+    /// neighbour's maximum deceleration (else +inf) and whether that neighbour moves (toward
+    /// or away from the axis: then the axis' deceleration is capped by it, §8.6).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn c4_bound(
         &self,
@@ -343,8 +362,9 @@ impl CaGroup {
         establishing: bool,
         dt: f64,
         axes: &[Axis],
-    ) -> (Option<Bound>, f64) {
+    ) -> (Option<Bound>, f64, bool) {
         let mut fast_dmax = f64::INFINITY;
+        let mut lead_moving = false;
         let c4 = if own_mode == GapControlMode::None {
             None
         } else if sg > 0.0 {
@@ -369,6 +389,7 @@ impl CaGroup {
                     return Bound {
                         pos_bound: f64::INFINITY,
                         stop_bound: self.offset_shift(y, x, -g),
+                        lead: None,
                     };
                 }
                 if moving_back(ls) {
@@ -380,24 +401,17 @@ impl CaGroup {
                     Bound {
                         pos_bound: f64::INFINITY,
                         stop_bound: sp - g,
+                        lead: None,
                     }
                 } else if own_mode == GapControlMode::Fast {
                     fast_dmax = dl;
-                    let vl = ls.vel;
-                    let tau = dt.min(vl / dl);
-                    let xh = if self.members[l].updated {
-                        xl
-                    } else {
-                        xl + vl * tau - dl * tau * tau / 2.0
-                    };
-                    Bound {
-                        pos_bound: xh - g,
-                        stop_bound: xl + vl * vl / (2.0 * dl) - g,
-                    }
+                    lead_moving = moving_fwd(ls);
+                    fast_bound(xl - g, ls.vel, dl, self.members[l].updated, dt)
                 } else {
                     Bound {
                         pos_bound: f64::INFINITY,
                         stop_bound: xl - g,
+                        lead: None,
                     }
                 }
             })
@@ -421,6 +435,7 @@ impl CaGroup {
                     return Bound {
                         pos_bound: f64::INFINITY,
                         stop_bound: -self.offset_shift(y, x, g),
+                        lead: None,
                     };
                 }
                 if moving_fwd(bs) {
@@ -432,32 +447,24 @@ impl CaGroup {
                     Bound {
                         pos_bound: f64::INFINITY,
                         stop_bound: -sp - g,
+                        lead: None,
                     }
                 } else if self.mode_of(b) == GapControlMode::Fast {
                     fast_dmax = db;
-                    let vb = -bs.vel;
-                    let tau = dt.min(vb / db);
-                    let yb = -xb;
-                    let yh = if self.members[b].updated {
-                        yb
-                    } else {
-                        yb + vb * tau - db * tau * tau / 2.0
-                    };
-                    Bound {
-                        pos_bound: yh - g,
-                        stop_bound: yb + vb * vb / (2.0 * db) - g,
-                    }
+                    lead_moving = moving_back(bs);
+                    fast_bound(-xb - g, -bs.vel, db, self.members[b].updated, dt)
                 } else {
                     Bound {
                         pos_bound: f64::INFINITY,
                         stop_bound: -xb - g,
+                        lead: None,
                     }
                 }
             })
         } else {
             None
         };
-        (c4, fast_dmax)
+        (c4, fast_dmax, lead_moving)
     }
 
     /// One planner step of member `k` (§8.5, §8.6).
@@ -528,14 +535,26 @@ impl CaGroup {
                 )
             }
         };
-        let (c4, fast_dmax) = self.c4_bound(k, s, sg, own_mode, establishing, dt, axes);
+        let (c4, fast_dmax, lead_moving) =
+            self.c4_bound(k, s, sg, own_mode, establishing, dt, axes);
         // Committed CA braking dynamics (§8.4).
         let m = &mut self.members[k];
         let mut dcmd = dy.d.min(ad.max_d);
         if fast_dmax.is_finite() {
-            m.d_ca = ad.max_d.min(fast_dmax);
-            m.j_ca = ad.max_j;
-            dcmd = dcmd.min(fast_dmax);
+            // Fast (§8.4, §8.6): committed braking min(own, predecessor's maximum); while the
+            // predecessor moves the command's deceleration is capped by its maximum too.
+            // The braking C4 used in the last cycle stays committed while moving (a softer
+            // one could invalidate a state that was safe, §8.4); if it exceeds the
+            // predecessor's maximum, C4 is sampled (planner::sampled_excess).
+            let (d, j) = (ad.max_d.min(fast_dmax), ad.max_j);
+            if s.vel == 0.0 && s.acc == 0.0 {
+                (m.d_ca, m.j_ca) = (d, j);
+            } else {
+                (m.d_ca, m.j_ca) = (d.max(m.d_b), j.max(m.j_b));
+            }
+            if lead_moving {
+                dcmd = dcmd.min(fast_dmax);
+            }
         } else if s.vel == 0.0 && s.acc == 0.0 {
             m.d_ca = dcmd;
             m.j_ca = dy.j;
@@ -567,6 +586,7 @@ impl CaGroup {
                     c4.map(|b| Bound {
                         pos_bound: map(b.pos_bound),
                         stop_bound: map(b.stop_bound),
+                        lead: None,
                     }),
                 )
             }

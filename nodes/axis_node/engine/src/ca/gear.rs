@@ -22,8 +22,75 @@ pub(super) struct Gear {
     pub(super) in_sync: bool,
     pub(super) failed: bool,
     pub(super) cam: Option<Cam>,
-    /// Coupled target at the end of the current cycle \[mm\].
+    /// Late: planned start point on the master grid and the master velocity it assumes.
+    pub(super) late_start: Option<(f64, f64)>,
+    /// Restrictions of the sync phase (§5.5.2 options).
+    pub(super) limits: SyncLimits,
+    /// Coupled target at the end of the current cycle (motor path) \[mm\].
     pub(super) target: f64,
+}
+
+/// The sync-phase restrictions of ST_GearInPosCAOptions (§5.5.2); they do not apply once InSync.
+/// Positions are in the coupling's coordinate (the offset path with a DynamicsReferenceSystem).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct SyncLimits {
+    /// MinimalSlavePosition (−inf: none).
+    pub(super) min_pos: f64,
+    /// NOT DirectionReversalAllowed.
+    pub(super) no_reversal: bool,
+    /// NOT MasterVelocityUndershootAllowed.
+    pub(super) no_undershoot: bool,
+    /// NOT MasterVelocityOvershootAllowed.
+    pub(super) no_overshoot: bool,
+}
+
+/// Master grid of the Late start-point search \[mm\] (§5.5.3).
+const LATE_GRID: f64 = 1.0;
+/// At most this many grid points are tried (a longer master distance uses a coarser grid,
+/// so the search stays bounded).
+const LATE_POINTS: f64 = 131_072.0;
+/// Cam samples of the feasibility check.
+const CAM_SAMPLES: usize = 64;
+
+/// Late (§5.5.3): the largest start point `m_s` on the master grid `MasterSyncPosition − k·1 mm`
+/// (k ≥ 1, `m_s ≥ m0`) whose cam from the slave at rest at `x` stays within the sync dynamics
+/// and restrictions at master velocity `mv`; else `m0` itself if that is feasible. Latest first,
+/// so the first feasible point is the answer. Deterministic and bounded.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn late_start(
+    m0: f64,
+    x: f64,
+    mv: f64,
+    msp: f64,
+    ssp: f64,
+    r: f64,
+    dy: &Dyn,
+    lim: &SyncLimits,
+) -> Option<f64> {
+    let span = msp - m0;
+    if !(span > 0.0 && mv > 0.0) {
+        return None;
+    }
+    let grid = LATE_GRID.max(span / LATE_POINTS);
+    let rest = State1 {
+        pos: x,
+        vel: 0.0,
+        acc: 0.0,
+    };
+    let fits =
+        |ms: f64| Cam::new(ms, rest, mv, msp, ssp, r).is_some_and(|c| c.feasible(mv, dy, r, lim));
+    let mut k = 1.0;
+    loop {
+        let ms = msp - k * grid;
+        if ms < m0 {
+            break;
+        }
+        if fits(ms) {
+            return Some(ms);
+        }
+        k += 1.0;
+    }
+    fits(m0).then_some(m0)
 }
 
 /// Quintic cam `s(m)` over the master position (§5.5.3 Late/Slow): from the slave's state at
@@ -68,24 +135,108 @@ impl Cam {
         (p, d1, d2)
     }
 
-    /// Within the sync dynamics at a constant master velocity `mv` (33 samples).
-    pub(super) fn feasible(&self, mv: f64, dy: &Dyn) -> bool {
+    /// Within the sync dynamics and the sync restrictions at a constant master velocity
+    /// `mv > 0` (sampled): |v| ≤ V, −D ≤ a ≤ A, |j| ≤ J; position ≥ MinimalSlavePosition; no
+    /// reversal against the sync direction; no undershoot (overshoot) of the synchronous
+    /// velocity once it has been reached.
+    pub(super) fn feasible(&self, mv: f64, dy: &Dyn, r: f64, lim: &SyncLimits) -> bool {
         let c = &self.c;
         let tol = 1.0 + 1e-9;
-        (0..=32).all(|i| {
-            let u = self.h * i as f64 / 32.0;
-            let (_, d1, d2) = self.eval(self.m0 + u);
+        let sr = if r < 0.0 { -1.0 } else { 1.0 };
+        let (mut reached_low, mut reached_high) = (false, false);
+        (0..=CAM_SAMPLES).all(|i| {
+            let u = self.h * i as f64 / CAM_SAMPLES as f64;
+            let (p, d1, d2) = self.eval(self.m0 + u);
             let d3 = 6.0 * c[3] + u * (24.0 * c[4] + u * 60.0 * c[5]);
             let (v, a, j) = (d1 * mv, d2 * mv * mv, d3 * mv * mv * mv);
-            v.abs() <= dy.v * tol && a <= dy.a * tol && -a <= dy.d * tol && j.abs() <= dy.j * tol
+            // Slave speed above (> 0) or below (< 0) the synchronous one, per unit of mv.
+            let rel = sr * (d1 - r);
+            if lim.no_undershoot {
+                reached_low |= rel >= -1e-9;
+            }
+            if lim.no_overshoot {
+                reached_high |= rel <= 1e-9;
+            }
+            v.abs() <= dy.v * tol
+                && a <= dy.a * tol
+                && -a <= dy.d * tol
+                && j.abs() <= dy.j * tol
+                && p >= lim.min_pos - EPS
+                && !(lim.no_reversal && sr * d1 < -1e-9)
+                && !(reached_low && rel < -1e-9)
+                && !(reached_high && rel > 1e-9)
         })
+    }
+}
+
+/// Motor-path state → the coupling's coordinate (offset path `p`, §5.9).
+fn to_work(p: Option<geometry::OffsetPath>, s: State1) -> State1 {
+    match p {
+        None => s,
+        Some(p) => {
+            let k = p.slope(s.pos);
+            State1 {
+                pos: p.to_offset(s.pos),
+                vel: s.vel * k,
+                acc: s.acc * k,
+            }
+        }
+    }
+}
+
+/// Inverse of [`to_work`] (velocity steps at curve boundaries are accepted, §5.9).
+fn from_work(p: Option<geometry::OffsetPath>, s: State1) -> State1 {
+    match p {
+        None => s,
+        Some(p) => {
+            let pos = p.from_offset(s.pos);
+            let k = p.slope(pos);
+            State1 {
+                pos,
+                vel: s.vel / k,
+                acc: s.acc / k,
+            }
+        }
+    }
+}
+
+/// One planner step without a pair constraint in frame `sg` (+1 forward, −1 mirrored).
+fn free_step(s: Kin, sg: f64, vmax: f64, dy: &Dyn, target: Option<f64>, dt: f64) -> Kin {
+    let o = planner::step(&StepIn {
+        s: if sg > 0.0 { s } else { s.mirror() },
+        vmax,
+        amax: dy.a,
+        dmax: dy.d,
+        jmax: dy.j,
+        target: target.map(|t| t * sg),
+        d_ca: dy.d,
+        j_ca: dy.j,
+        c4: None,
+        t: dt,
+    });
+    if sg > 0.0 {
+        o.s
+    } else {
+        o.s.mirror()
+    }
+}
+
+/// MinimalSlavePosition (§5.5.2): where a backward-moving state stops with the sync dynamics
+/// (the braking the planner's C3 assumes); the position itself otherwise.
+fn lowest_reach(e: Kin, dy: &Dyn) -> f64 {
+    if e.v < 0.0 || (e.v == 0.0 && e.a < 0.0) {
+        let f = e.mirror();
+        -planner::stop_point(f, dy.d.max(-f.a), dy.j)
+    } else {
+        e.x
     }
 }
 
 impl CaGroup {
     /// One cycle of an MC_GearInPosCA slave (§5.5.3): the coupled, cam or tracking candidate;
     /// `None` when CA (C4) rejects it (the caller then runs the position planner toward the
-    /// coupled target, InSync drops).
+    /// coupled target, InSync drops). With a DynamicsReferenceSystem everything but the CA
+    /// check runs on the template's offset path.
     pub(super) fn step_gear(
         &mut self,
         k: usize,
@@ -95,7 +246,9 @@ impl CaGroup {
         axes: &mut [Axis],
     ) -> Option<State1> {
         let ax = self.members[k].axis;
-        let s = axes[ax].set;
+        let path = req.dyn_path;
+        let s_motor = axes[ax].set;
+        let s = to_work(path, s_motor);
         let ms = axes[gear.master].set;
         let master_updated = self
             .members
@@ -116,8 +269,17 @@ impl CaGroup {
             (ms.pos, ms.vel, m1, ms.vel + ms.acc * dt, ms.acc)
         };
         let r = gear.ratio;
+        let lim = gear.limits;
         let star = |m: f64| gear.ssp + r * (m - gear.msp);
-        gear.target = star(m1);
+        gear.target = from_work(
+            path,
+            State1 {
+                pos: star(m1),
+                vel: 0.0,
+                acc: 0.0,
+            },
+        )
+        .pos;
         let coupled = State1 {
             pos: star(m1),
             vel: r * mv1,
@@ -161,40 +323,53 @@ impl CaGroup {
         } else if gear.in_sync {
             coupled
         } else {
+            let at_rest = s.vel == 0.0 && s.acc == 0.0;
             if !gear.started && gear.cam.is_none() && gear.strategy != SyncStrategy::Early {
                 // Late/Slow: a cam over the master position, only toward a master moving
                 // to its sync position with the slave at rest; otherwise Early tracking.
-                let at_rest = s.vel == 0.0 && s.acc == 0.0;
-                let cam = Cam::new(m0, s, mv0, gear.msp, gear.ssp, r);
-                match cam {
-                    Some(c) if at_rest && mv0 > 0.0 => {
-                        let now_ok = c.feasible(mv0, &dy);
-                        let start = match gear.strategy {
-                            SyncStrategy::Slow => true,
-                            _ => {
-                                // Late: start when waiting one more cycle becomes infeasible.
-                                let next = Cam::new(m1, s, mv0, gear.msp, gear.ssp, r);
-                                !next.is_some_and(|n| n.feasible(mv0, &dy))
-                            }
-                        };
-                        if start {
-                            if now_ok {
+                if at_rest && mv0 > 0.0 && m0 < gear.msp {
+                    match gear.strategy {
+                        SyncStrategy::Slow => match Cam::new(m0, s, mv0, gear.msp, gear.ssp, r) {
+                            Some(c) if c.feasible(mv0, &dy, r, &lim) => {
                                 gear.cam = Some(c);
                                 gear.started = true;
-                            } else {
-                                gear.failed = true;
+                            }
+                            _ => gear.failed = true,
+                        },
+                        _ => {
+                            // Late: the start point on the 1 mm master grid, planned for
+                            // the current master velocity (re-planned when it changes).
+                            let ms_plan = match gear.late_start {
+                                Some((p, v)) if (v - mv0).abs() <= 1e-6 => Some(p),
+                                _ => {
+                                    let p = late_start(
+                                        m0, s.pos, mv0, gear.msp, gear.ssp, r, &dy, &lim,
+                                    );
+                                    gear.late_start = p.map(|p| (p, mv0));
+                                    p
+                                }
+                            };
+                            match ms_plan {
+                                None => gear.failed = true,
+                                Some(p) if m1 >= p => {
+                                    gear.cam = Cam::new(p, s, mv0, gear.msp, gear.ssp, r);
+                                    gear.started = gear.cam.is_some();
+                                    gear.failed = gear.cam.is_none();
+                                }
+                                Some(_) => {}
                             }
                         }
                     }
-                    _ => gear.strategy = SyncStrategy::Early,
+                } else {
+                    gear.strategy = SyncStrategy::Early;
                 }
             }
             // Late/Slow without OverrideSlaveDynamicRestrictions: a changed master velocity
             // re-plans the cam from the current state; infeasible ⇒ SLAVE_CANNOT_SYNC.
             if let Some(c) = gear.cam {
-                if !gear.keep_cam && (mv0 - c.mv).abs() > 1e-6 && m0 < gear.msp {
+                if !gear.keep_cam && (mv0 - c.mv).abs() > 1e-6 && m0 < gear.msp && m0 > c.m0 {
                     match Cam::new(m0, s, mv0, gear.msp, gear.ssp, r) {
-                        Some(n) if n.feasible(mv0, &dy) => gear.cam = Some(n),
+                        Some(n) if n.feasible(mv0, &dy, r, &lim) => gear.cam = Some(n),
                         _ => gear.failed = true,
                     }
                 }
@@ -215,82 +390,17 @@ impl CaGroup {
                 }
             } else if gear.strategy == SyncStrategy::Early || gear.started {
                 gear.started = true;
-                // Early: jerk-limited tracking of s*(t) in the relative frame; a target
-                // faster than the slave may go (or an accelerating master after a loss of
-                // sync) is chased in the absolute frame within the slave's limits.
-                let outrun = (r * mv1).abs() >= dy.v * (1.0 - 1e-9);
-                if outrun || ((r * ma).abs() > 1e-9 && gear.ever_in_sync) {
-                    let sga = frame_sign(s, &Job::Idle, 0.0)
-                        * if coupled.pos < s.pos && s.vel == 0.0 && s.acc == 0.0 {
-                            -1.0
-                        } else {
-                            1.0
-                        };
-                    let o = planner::step(&StepIn {
-                        s: if sga > 0.0 { kin(s) } else { kin(s).mirror() },
-                        vmax: dy.v,
-                        amax: dy.a,
-                        dmax: dy.d,
-                        jmax: dy.j,
-                        target: Some(coupled.pos * sga),
-                        d_ca: dy.d,
-                        j_ca: dy.j,
-                        c4: None,
-                        t: dt,
-                    });
-                    let e = if sga > 0.0 { o.s } else { o.s.mirror() };
-                    State1 {
-                        pos: e.x,
-                        vel: e.v,
-                        acc: e.a,
-                    }
-                } else {
-                    let rel = Kin {
-                        x: s.pos - star(m0),
-                        v: s.vel - r * mv0,
-                        a: s.acc - r * ma,
-                    };
-                    let sgr = if rel.v > 0.0
-                        || (rel.v == 0.0 && (rel.a > 0.0 || (rel.a == 0.0 && rel.x < 0.0)))
-                    {
-                        1.0
-                    } else {
-                        -1.0
-                    };
-                    let vmax = (dy.v - sgr * r * mv0).max(0.0);
-                    let o = planner::step(&StepIn {
-                        s: if sgr > 0.0 { rel } else { rel.mirror() },
-                        vmax,
-                        amax: dy.a,
-                        dmax: dy.d,
-                        jmax: dy.j,
-                        target: Some(0.0),
-                        d_ca: dy.d,
-                        j_ca: dy.j,
-                        c4: None,
-                        t: dt,
-                    });
-                    let e = if sgr > 0.0 { o.s } else { o.s.mirror() };
-                    if e.x.abs() <= 1e-3 && e.v.abs() <= 1e-3 {
-                        gear.in_sync = true;
-                        coupled
-                    } else {
-                        State1 {
-                            pos: coupled.pos + e.x,
-                            vel: coupled.vel + e.v,
-                            acc: coupled.acc + e.a,
-                        }
-                    }
-                }
+                early(&mut gear, s, coupled, &dy, (m0, mv0, ma), dt)
             } else {
                 s
             }
         };
         gear.ever_in_sync |= gear.in_sync;
+        let cand = from_work(path, cand);
         // CA outranks the coupling (§1.10).
         let own_mode = self.mode_of(k);
         let sgc = if cand.vel < 0.0 { -1.0 } else { 1.0 };
-        let (b, _) = self.c4_bound(k, s, sgc, own_mode, false, dt, axes);
+        let (b, _, _) = self.c4_bound(k, s_motor, sgc, own_mode, false, dt, axes);
         let m = &mut self.members[k];
         m.d_ca = m.d_ca.max(dy.d.min(m.dynamics.max_d));
         m.j_ca = m.j_ca.max(dy.j);
@@ -299,7 +409,7 @@ impl CaGroup {
         } else {
             kin(cand).mirror()
         };
-        let ok = b.is_none_or(|b| planner::c4_ok(&b, kc, m.d_ca, m.j_ca));
+        let ok = b.is_none_or(|b| planner::c4_ok(&b, kc, m.d_ca, m.j_ca, dt));
         if !ok {
             gear.in_sync = false;
             gear.cam = None;
@@ -313,9 +423,143 @@ impl CaGroup {
         m.updated = true;
         m.d_b = m.d_ca;
         m.j_b = m.j_ca;
-        let dx = cand.pos - s.pos;
+        let dx = cand.pos - s_motor.pos;
         axes[ax].set = cand;
         self.shift(k, dx);
         Some(cand)
+    }
+}
+
+/// Early (and resync) tracking of `s*(t)` (§5.5.3) in the coupling's coordinate, with the
+/// sync restrictions of §5.5.2: jerk-limited tracking in the frame relative to the moving
+/// target (feed-forward `ratio·ṁ`); a target faster than the slave may go (or an
+/// accelerating master after a loss of sync) is chased in the absolute frame. Returns the
+/// candidate state; sets InSync when it reaches the target.
+fn early(
+    gear: &mut Gear,
+    s: State1,
+    coupled: State1,
+    dy: &Dyn,
+    (m0, mv0, ma): (f64, f64, f64),
+    dt: f64,
+) -> State1 {
+    let r = gear.ratio;
+    let lim = gear.limits;
+    // Sync direction and speed: the restrictions cap the velocity in the travel frame.
+    let w = (r * mv0).abs();
+    let sigma = if r * mv0 < 0.0 { -1.0 } else { 1.0 };
+    let outrun = coupled.vel.abs() >= dy.v * (1.0 - 1e-9);
+    let e = if outrun || ((r * ma).abs() > 1e-9 && gear.ever_in_sync) {
+        let sga = frame_sign(s, &Job::Idle, 0.0)
+            * if coupled.pos < s.pos && s.vel == 0.0 && s.acc == 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+        let target = if lim.no_reversal && sga * sigma < 0.0 {
+            None
+        } else {
+            Some(coupled.pos)
+        };
+        free_step(kin(s), sga, dy.v, dy, target, dt)
+    } else {
+        let rel = Kin {
+            x: s.pos - (gear.ssp + r * (m0 - gear.msp)),
+            v: s.vel - r * mv0,
+            a: s.acc - r * ma,
+        };
+        let sgr = if rel.v > 0.0 || (rel.v == 0.0 && (rel.a > 0.0 || (rel.a == 0.0 && rel.x < 0.0)))
+        {
+            1.0
+        } else {
+            -1.0
+        };
+        // In frame sgr the slave's speed in the sync direction is w + sgr·σ·v_frame.
+        let orient = sgr * sigma;
+        let mut vmax = (dy.v - sgr * r * mv0).max(0.0);
+        if (orient > 0.0 && lim.no_overshoot) || (orient < 0.0 && lim.no_undershoot) {
+            vmax = 0.0;
+        }
+        if orient < 0.0 && lim.no_reversal {
+            vmax = vmax.min(w);
+        }
+        let e = free_step(rel, sgr, vmax, dy, Some(0.0), dt);
+        if e.x.abs() <= 1e-3 && e.v.abs() <= 1e-3 {
+            gear.in_sync = true;
+            return coupled;
+        }
+        Kin {
+            x: coupled.pos + e.x,
+            v: coupled.vel + e.v,
+            a: coupled.acc + e.a,
+        }
+    };
+    // MinimalSlavePosition: a candidate that could no longer stop above it is replaced by
+    // the approach to it (the planner's C3 keeps it from there on, §8.5).
+    let e = if lowest_reach(e, dy) < lim.min_pos - EPS {
+        let ks = kin(s);
+        if ks.v > 0.0 || (ks.v == 0.0 && ks.a > 0.0) {
+            free_step(ks, 1.0, dy.v, dy, None, dt)
+        } else {
+            free_step(ks, -1.0, dy.v, dy, Some(lim.min_pos.min(s.pos)), dt)
+        }
+    } else {
+        e
+    };
+    State1 {
+        pos: e.x,
+        vel: e.v,
+        acc: e.a,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const FREE: SyncLimits = SyncLimits {
+        min_pos: f64::NEG_INFINITY,
+        no_reversal: false,
+        no_undershoot: false,
+        no_overshoot: false,
+    };
+
+    #[test]
+    fn late_start_is_the_largest_feasible_point_of_the_1_mm_grid() {
+        // §10.9: master at 0 cruising at 500, sync at 1000; slave at rest at 0, s* = m + 400.
+        let dy = Dyn {
+            v: 1500.0,
+            a: 10000.0,
+            d: 10000.0,
+            j: 100000.0,
+        };
+        let ms = late_start(0.0, 0.0, 500.0, 1000.0, 1400.0, 1.0, &dy, &FREE).unwrap();
+        assert_eq!(ms, (ms - 1000.0).round() + 1000.0, "on the grid: {ms}");
+        assert!(ms > 0.0 && ms < 1000.0);
+        let rest = State1 {
+            pos: 0.0,
+            vel: 0.0,
+            acc: 0.0,
+        };
+        let fits = |m: f64| {
+            Cam::new(m, rest, 500.0, 1000.0, 1400.0, 1.0)
+                .is_some_and(|c| c.feasible(500.0, &dy, 1.0, &FREE))
+        };
+        assert!(fits(ms));
+        for k in 1..=((1000.0 - ms) as usize - 1) {
+            assert!(
+                !fits(1000.0 - k as f64),
+                "{} is later and feasible",
+                1000.0 - k as f64
+            );
+        }
+        // Nothing feasible from here on ⇒ None (SLAVE_CANNOT_SYNC).
+        assert_eq!(
+            late_start(990.0, 0.0, 500.0, 1000.0, 1400.0, 1.0, &dy, &FREE),
+            None
+        );
+        // Bounded: a 10 km master distance is searched on a coarser grid.
+        let far = late_start(-1e7, 0.0, 500.0, 1000.0, 1400.0, 1.0, &dy, &FREE).unwrap();
+        assert!(far < 1000.0 && far > -1e7);
     }
 }

@@ -23,7 +23,7 @@ use crate::handshake::Handshake;
 use cycle::*;
 use gear::*;
 use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, ExecuteOutputs, Rejection, State1};
-use planner::{stop_point, stop_point_back, Bound, Kin, StepIn};
+use planner::{stop_point, stop_point_back, Bound, Kin, Lead, StepIn};
 use std::collections::HashMap;
 use types::errors as err;
 pub use types::*;
@@ -98,7 +98,9 @@ struct Request {
     dyn_path: Option<geometry::OffsetPath>,
 }
 
-/// The active job of a member.
+/// The active job of a member. `Copy` and stored inline (the coupling variant is the largest):
+/// a box would allocate per command, and the cycle must not allocate.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Job {
     Idle,
@@ -541,6 +543,7 @@ impl CaGroups {
                             velocity: a.set.vel,
                             acceleration: a.set.acc,
                             active_command_id: m.job.owner(),
+                            command_kind: self.command_kind(g, m),
                             gap_target: target,
                             gap_actual: g.gap_measured(k, axes),
                             ca_limited: m.ca_limited,
@@ -555,6 +558,35 @@ impl CaGroups {
                     .collect(),
             })
             .collect()
+    }
+
+    /// What member `m` of group `g` is doing (§9.5 `command_kind`): the block of its active
+    /// command; a job without an instance is group braking (halt, stop, error) or a
+    /// cancelled goal's MC_HaltCA; an idle axis may be in standby gap control.
+    fn command_kind(&self, g: &CaGroup, m: &Member) -> CaCommandKind {
+        use CaCommandKind as K;
+        if m.job == Job::Idle {
+            return if m.retreat > ESTABLISH_MIN {
+                K::StandbyGapControl
+            } else {
+                K::None
+            };
+        }
+        match m.job.owner().and_then(|id| self.instances.get(&id)) {
+            Some(i) => match i.kind {
+                CaFbKind::MoveAbsolute => K::MoveAbsolute,
+                CaFbKind::MoveRelative => K::MoveRelative,
+                CaFbKind::Halt => K::Halt,
+                CaFbKind::GearInPos => K::GearInPos,
+                CaFbKind::GroupHalt => K::GroupHalt,
+                CaFbKind::GroupStop => K::GroupStop,
+                CaFbKind::Admin => K::None,
+            },
+            None if g.stop.is_some() => K::GroupStop,
+            None if g.halt.is_some() => K::GroupHalt,
+            None if g.state == GroupState::GroupErrorStop => K::ErrorStop,
+            None => K::Halt,
+        }
     }
 
     /// StartSync / InSync of a running MC_GearInPosCA instance (None: not a running coupling).

@@ -153,6 +153,81 @@ pub struct Bound {
     pub pos_bound: f64,
     /// Bound on the CA stop point (Standard: predecessor's position − gap).
     pub stop_bound: f64,
+    /// Fast: the predecessor's hardest stop, for the sampled C4 when the follower's braking
+    /// deceleration exceeds the predecessor's maximum (§8.6).
+    pub lead: Option<Lead>,
+}
+
+/// The predecessor of a Fast pair as C4 sees it (forward frame): its hardest stop from
+/// `(x, v)` with its maximum deceleration `d`, starting `t0` before the follower's end of
+/// cycle (0: already updated this cycle; T: start-of-cycle state).
+#[derive(Clone, Copy, Debug)]
+pub struct Lead {
+    /// Position minus the follower's gap \[mm\].
+    pub x: f64,
+    /// Velocity (≥ 0) \[mm/s\].
+    pub v: f64,
+    /// Maximum deceleration \[mm/s²\].
+    pub d: f64,
+    /// Age of the state at the follower's end of cycle \[s\].
+    pub t0: f64,
+}
+
+impl Lead {
+    /// Position (minus the gap) at `t` after the state, braking as hard as it can.
+    #[inline]
+    pub fn at(&self, t: f64) -> f64 {
+        let tau = t.min(self.v / self.d);
+        self.x + self.v * tau - self.d * tau * tau / 2.0
+    }
+}
+
+/// Samples in the sampled C4 before the rest of the follower's stop is taken in one piece
+/// (conservative: the predecessor only advances).
+const MAX_SAMPLES: usize = 100_000;
+
+/// Sampled C4-Fast (§8.6): `max_i (x_f(iT) − x_l(t0 + iT))` over every future cycle instant
+/// until both are at rest, the follower on its CA braking profile P(db, jb) from `s`, the
+/// predecessor on its hardest stop; ≤ 0 ⇔ the gap holds at every sample. No alloc.
+pub fn sampled_excess(s: Kin, db: f64, jb: f64, lead: &Lead, t: f64) -> f64 {
+    let (ph, n) = if s.v <= 0.0 && s.a <= 0.0 {
+        ([(0.0, 0.0); 4], 0)
+    } else {
+        brake_phases(s.v, s.a, db, jb)
+    };
+    let lead_stop = lead.v / lead.d;
+    let mut worst = f64::NEG_INFINITY;
+    let (mut k, mut tk, mut p) = (s, 0.0, 0);
+    for i in 0..=MAX_SAMPLES {
+        let ti = i as f64 * t;
+        while p < n && tk + ph[p].1 <= ti {
+            k = integrate(k, ph[p].0, ph[p].1);
+            tk += ph[p].1;
+            p += 1;
+        }
+        let xf = if p < n {
+            integrate(k, ph[p].0, ti - tk).x
+        } else {
+            k.x
+        };
+        worst = worst.max(xf - lead.at(lead.t0 + ti));
+        if p >= n {
+            // The follower rests; the predecessor only moves on.
+            return worst;
+        }
+        if lead.t0 + ti >= lead_stop || i == MAX_SAMPLES {
+            // The predecessor rests (or the sampling budget is spent): the follower's stop
+            // point against the predecessor's current, never decreasing, position.
+            return worst.max(stop_point(s, db, jb) - lead.at(lead.t0 + ti));
+        }
+    }
+    worst
+}
+
+/// Does the sampled C4 apply (the follower may brake harder than the predecessor can)?
+#[inline]
+fn sampled(b: &Bound, db: f64) -> Option<&Lead> {
+    b.lead.as_ref().filter(|l| db > l.d)
 }
 
 /// Inputs of one axis step (forward frame).
@@ -202,8 +277,20 @@ const ITER: usize = 32;
 
 /// C4 for a candidate state (forward frame).
 #[inline]
-pub fn c4_ok(b: &Bound, s: Kin, db: f64, jb: f64) -> bool {
-    s.x <= b.pos_bound && stop_point_le(s, db, jb, b.stop_bound)
+pub fn c4_ok(b: &Bound, s: Kin, db: f64, jb: f64, t: f64) -> bool {
+    match sampled(b, db) {
+        Some(l) => sampled_excess(s, db, jb, l, t) <= 0.0,
+        None => s.x <= b.pos_bound && stop_point_le(s, db, jb, b.stop_bound),
+    }
+}
+
+/// C4 as a residual, increasing with the candidate's advance (≤ 0: holds).
+#[inline]
+fn c4_residual(b: &Bound, s: Kin, db: f64, jb: f64, t: f64) -> f64 {
+    match sampled(b, db) {
+        Some(l) => sampled_excess(s, db, jb, l, t),
+        None => (s.x - b.pos_bound).max(stop_point(s, db, jb) - b.stop_bound),
+    }
 }
 
 /// L(J′): no velocity sign change inside the cycle, end state not over-braked.
@@ -430,12 +517,12 @@ pub fn step(p: &StepIn) -> StepOut {
     // Step 4: the pair constraint.
     let mut j_ca = f64::INFINITY;
     if let Some(b) = p.c4 {
-        if !c4_ok(&b, s, db, jb) {
+        if !c4_ok(&b, s, db, jb, t) {
             return out(brake_b(), true);
         }
         // Fast path: the nominal step keeps C4 (L(J_n) implies L(J_b), J_b ≥ J_n) ⇒ j_ca ≥ j_nom.
         if let Some(j) = j_nom {
-            if c4_ok(&b, integrate(s, j, t), db, jb) {
+            if c4_ok(&b, integrate(s, j, t), db, jb, t) {
                 let mut e = integrate(s, j, t);
                 if e.v < 0.0 {
                     e.v = 0.0;
@@ -444,16 +531,13 @@ pub fn step(p: &StepIn) -> StepOut {
             }
         }
         let (lo, hi) = range(s, p.amax, db, jb, t);
-        let found = lower_threshold(s, t, lo, hi, jb).and_then(|jl| {
-            root_from(s, t, jl, hi, |e| {
-                (e.x - b.pos_bound).max(stop_point(e, db, jb) - b.stop_bound)
-            })
-        });
+        let found = lower_threshold(s, t, lo, hi, jb)
+            .and_then(|jl| root_from(s, t, jl, hi, |e| c4_residual(&b, e, db, jb, t)));
         match found {
             Some(j) => j_ca = j,
             None => {
                 let e = brake_n();
-                return if c4_ok(&b, e, db, jb) {
+                return if c4_ok(&b, e, db, jb, t) {
                     out(e, true)
                 } else {
                     out(brake_b(), true)
@@ -465,7 +549,7 @@ pub fn step(p: &StepIn) -> StepOut {
     let Some(j_nom) = j_nom else {
         let e = brake_n();
         if let Some(b) = p.c4 {
-            if !c4_ok(&b, e, db, jb) {
+            if !c4_ok(&b, e, db, jb, t) {
                 return out(brake_b(), true);
             }
         }

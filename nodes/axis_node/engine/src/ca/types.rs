@@ -39,7 +39,7 @@ pub mod errors {
     pub const AXIS_NOT_IN_GROUP: ErrorId = ErrorId(0x8F08);
     /// 0x8F09 adding an axis that already belongs to a group.
     pub const AXIS_IN_OTHER_GROUP: ErrorId = ErrorId(0x8F09);
-    /// 0x8F0A Undershoot and Overshoot both FALSE.
+    /// 0x8F0A Undershoot and Overshoot both FALSE; MinimalSlavePosition not a finite value.
     pub const INVALID_SYNC_OPTIONS: ErrorId = ErrorId(0x8F0A);
     /// 0x8F0B unknown track; mover not on a part of the track.
     pub const TRACK_ERROR: ErrorId = ErrorId(0x8F0B);
@@ -168,6 +168,43 @@ ca_enum! {
         Positive = 1,
         /// 3: next occurrence in negative direction.
         Negative = 3,
+    }
+}
+
+ca_enum! {
+    /// MC_MASTER_SIGNAL_CORRECTION of MC_GearInPosCA (§5.5.2).
+    MasterSignalCorrection: "MasterSignalCorrection", errors::INVALID_MODE, {
+        /// 0 (preset): correct the master signal automatically.
+        #[default]
+        Auto = 0,
+        /// 1: use the raw master signal.
+        None = 1,
+    }
+}
+
+ca_enum! {
+    /// What an axis of a CA group is doing (`command_kind` of CaAxisState, §9.5; values are
+    /// the simulator's).
+    CaCommandKind: "command_kind", errors::INVALID_MODE, {
+        /// 0: no command, not moving by itself.
+        #[default]
+        None = 0,
+        /// 1: MC_MoveAbsoluteCA.
+        MoveAbsolute = 1,
+        /// 2: MC_MoveRelativeCA.
+        MoveRelative = 2,
+        /// 3: MC_HaltCA (also a cancelled goal's halt).
+        Halt = 3,
+        /// 4: MC_GearInPosCA.
+        GearInPos = 4,
+        /// 5: braking for MC_GroupHalt.
+        GroupHalt = 5,
+        /// 6: braking for MC_GroupStop.
+        GroupStop = 6,
+        /// 7: braking after a group error (ErrorStop).
+        ErrorStop = 7,
+        /// 8: standby gap control of an idle axis (§1.7).
+        StandbyGapControl = 8,
     }
 }
 
@@ -437,11 +474,36 @@ pub struct GearInPosCa {
     pub buffer_mode: CaBufferMode,
     /// Options.GapControlMode.
     pub gap_control_mode: GapControlMode,
-    /// Options.MasterVelocityUndershootAllowed, negated (ROS encoding §9.3). Validated
-    /// only (both `forbid_…` TRUE ⇒ INVALID_SYNC_OPTIONS); not yet enforced while syncing.
+    /// Options.MasterVelocityUndershootAllowed, negated (ROS encoding §9.3): TRUE ⇒ during
+    /// the sync phase, once the slave has reached the synchronous velocity `ratio · ṁ`, it
+    /// never runs slower than that in the sync direction (a slower slave first accelerates).
+    /// Both `forbid_…` TRUE ⇒ INVALID_SYNC_OPTIONS.
     pub forbid_master_velocity_undershoot: bool,
-    /// Options.MasterVelocityOvershootAllowed, negated. Validated only (see above).
+    /// Options.MasterVelocityOvershootAllowed, negated: TRUE ⇒ never faster than the
+    /// synchronous velocity during the sync phase (a faster slave first decelerates).
     pub forbid_master_velocity_overshoot: bool,
+    /// Options.DirectionReversalAllowed, negated: TRUE ⇒ during the sync phase the slave
+    /// never moves against the direction of its sync velocity (sign of `ratio · ṁ`).
+    #[serde(default)]
+    pub forbid_direction_reversal: bool,
+    /// Options.MinimalSlavePosition \[mm\]: lowest absolute (motor-path) slave position
+    /// during the sync phase; Unset/IGNORE = none; other markers or a non-finite value ⇒
+    /// INVALID_SYNC_OPTIONS.
+    #[serde(default)]
+    pub minimal_slave_position: McLreal,
+    /// Options.SlaveSyncPositionReferenceSystem: 0 = motor path; a mover template OID
+    /// registered for the slave = SlaveSyncPosition is an offset-path coordinate (§5.9);
+    /// otherwise COMPENSATION_ERROR.
+    #[serde(default)]
+    pub slave_sync_position_reference_system: u32,
+    /// Options.DynamicsReferenceSystem: 0 = motor path; a registered template OID = the
+    /// coupling (coupled law, sync and after-sync dynamics) runs on that offset path.
+    #[serde(default)]
+    pub dynamics_reference_system: u32,
+    /// Options.MasterSignalCorrection (master set values are noise-free: both values
+    /// behave identically, §5.5.2).
+    #[serde(default)]
+    pub master_signal_correction: MasterSignalCorrection,
     /// Options.AfterSyncVelocity (Unset/DEFAULT: per group parameter, §5.5.4).
     pub after_sync_velocity: McLreal,
     /// Options.AfterSyncAcceleration.
@@ -726,6 +788,9 @@ pub struct CaAxisStatus {
     pub acceleration: f64,
     /// Active CA command (None: idle).
     pub active_command_id: Option<CmdId>,
+    /// What the axis is doing (block of the active command, group braking, standby).
+    #[serde(default)]
+    pub command_kind: CaCommandKind,
     /// Effective gap \[mm\].
     pub gap_target: f64,
     /// Pair gap to the predecessor \[mm\] (NaN if none).

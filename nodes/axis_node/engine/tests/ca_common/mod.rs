@@ -2,7 +2,7 @@
 //! T = 1 ms, per-cycle invariants (gaps, dynamics) recorded while stepping.
 #![allow(dead_code)]
 
-use axis_engine::ca::bench::{ca_axis_config, ca_engine};
+use axis_engine::ca::bench::{ca_axis_config, ca_engine_with};
 use axis_engine::ca::GroupState;
 use axis_engine::ca::*;
 use axis_engine::*;
@@ -27,8 +27,16 @@ pub struct CaRig {
 
 impl CaRig {
     pub fn new(movers: &[(&str, f64)], cfg: CaGroupConfig) -> Self {
-        let m: Vec<(String, f64)> = movers.iter().map(|(n, x)| (n.to_string(), *x)).collect();
-        let e = ca_engine(&m, G, cfg, T).unwrap_or_else(|r| panic!("setup: {r}"));
+        let m: Vec<(String, AxisConfig)> = movers
+            .iter()
+            .map(|(n, x)| (n.to_string(), ca_axis_config(*x)))
+            .collect();
+        Self::with_axes(&m, cfg)
+    }
+
+    /// Like `new`, with an own configuration per axis.
+    pub fn with_axes(movers: &[(String, AxisConfig)], cfg: CaGroupConfig) -> Self {
+        let e = ca_engine_with(movers, G, cfg, T).unwrap_or_else(|r| panic!("setup: {r}"));
         CaRig {
             e,
             events: Vec::new(),
