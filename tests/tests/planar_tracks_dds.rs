@@ -28,7 +28,7 @@ movers:
   - {name: m1, initial_pose: {x: 1000, y: 200}}
   - {name: m2, initial_pose: {x: 1500, y: 200}}
   - {name: m3, initial_pose: {x: 1300, y: 500}}
-tracks: [{name: loop}]
+tracks: [{name: loop, max_mover_width: 160, collision_range_mode: manual, collision_range_start: 0, collision_range_end: 0}]
 axes: [{name: v1}]
 ";
 
@@ -87,6 +87,13 @@ async fn scenario(mapping: ServiceMapping) {
         PlanarTrackState::MODE_UNINITIALIZED
     );
     assert_eq!(first.tracks[0].length, 0.0);
+    // The §1.6 init parameters as configured (height and the static check at their defaults).
+    let t = &first.tracks[0];
+    assert_eq!(
+        (t.max_mover_width, t.max_mover_height, t.check_static_collision),
+        (160.0, 155.0, false)
+    );
+    assert_eq!(t.collision_range_mode, PlanarTrackState::COLLISION_RANGE_MANUAL);
 
     // The loop: bottom straight, right half circle, top straight, left half circle (the
     // gaps between them get generated transitions), closed.

@@ -33,10 +33,11 @@ use motion_msgs::srv::*;
 use motion_runtime::cycle::Stamped;
 use motion_runtime::{ActionBinding, CommandLabel, NodeShell, ShellError};
 use planar_engine::{
-    AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,
-    MoveOnTrackOptions, MoveToPositionOptions, MoverSnapshot, PlanarCommand, PlanarEngine,
-    PlanarReply, PlanarSnapshot, PositionXYC, ReplyValue, SyncDirections, TrackLinkAdvancedOptions,
-    TrackOperationMode, TrackSnapshot, VirtualAxisSnapshot,
+    AdoptTrackOrientationOptions, CollisionRangeMode, GearInPosOnTrackOptions,
+    GearInPosOnTrackWithMasterMoverOptions, MoveOnTrackOptions, MoveToPositionOptions,
+    MoverSnapshot, PlanarCommand, PlanarEngine, PlanarReply, PlanarSnapshot, PositionXYC,
+    ReplyValue, SyncDirections, TrackLinkAdvancedOptions, TrackOperationMode, TrackSnapshot,
+    VirtualAxisSnapshot,
 };
 use ros2_client::ActionTypeName;
 use std::collections::HashMap;
@@ -783,6 +784,13 @@ pub fn track_state(t: &TrackSnapshot) -> PlanarTrackState {
         part_oid: t.part_oid,
         collision_range_start: t.collision_range_start,
         collision_range_end: t.collision_range_end,
+        collision_range_mode: match t.collision_range_mode {
+            CollisionRangeMode::Automatic => PlanarTrackState::COLLISION_RANGE_AUTOMATIC,
+            CollisionRangeMode::Manual => PlanarTrackState::COLLISION_RANGE_MANUAL,
+        },
+        max_mover_width: t.max_mover_width,
+        max_mover_height: t.max_mover_height,
+        check_static_collision: t.check_static_collision,
     }
 }
 
