@@ -90,10 +90,17 @@ async fn scenario(mapping: ServiceMapping) {
     // The §1.6 init parameters as configured (height and the static check at their defaults).
     let t = &first.tracks[0];
     assert_eq!(
-        (t.max_mover_width, t.max_mover_height, t.check_static_collision),
+        (
+            t.max_mover_width,
+            t.max_mover_height,
+            t.check_static_collision
+        ),
         (160.0, 155.0, false)
     );
-    assert_eq!(t.collision_range_mode, PlanarTrackState::COLLISION_RANGE_MANUAL);
+    assert_eq!(
+        t.collision_range_mode,
+        PlanarTrackState::COLLISION_RANGE_MANUAL
+    );
 
     // The loop: bottom straight, right half circle, top straight, left half circle (the
     // gaps between them get generated transitions), closed.

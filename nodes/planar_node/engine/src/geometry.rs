@@ -43,6 +43,13 @@ impl ConvexPolygon {
         ])
     }
 
+    /// The polygon moved by `d`.
+    pub fn translated(&self, d: V2) -> Self {
+        let mut q = *self;
+        q.pts[..q.n].iter_mut().for_each(|p| *p += d);
+        q
+    }
+
     /// Axis-aligned box.
     pub fn aabb_box(min: V2, max: V2) -> Self {
         ConvexPolygon::from_ccw(&[min, V2::new(max.x, min.y), max, V2::new(min.x, max.y)])

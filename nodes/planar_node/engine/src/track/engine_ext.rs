@@ -160,7 +160,7 @@ impl PlanarEngine {
 
     // ------------------------------------------------------------------ track methods (§3.3)
 
-    fn track_who(&self, k: usize) -> String {
+    pub(crate) fn track_who(&self, k: usize) -> String {
         format!("track '{}'", self.tracks[k].name)
     }
 
@@ -843,7 +843,9 @@ impl PlanarEngine {
                         format!("{who}: already member of group '{}'", self.groups[og].name),
                     ));
                 }
-                self.tracks[k].tube = self.tracks[k].build_tube();
+                let tube = self.tracks[k].build_tube();
+                self.track_static_check(k, g, &tube)?;
+                self.tracks[k].tube = tube;
                 self.tracks[k].group = Some(g);
                 self.done_now()
             }
@@ -1444,7 +1446,7 @@ impl PlanarEngine {
     }
 
     /// Shift of track `k`'s stored geometry with its part at `index` (0 = current) \[mm\].
-    fn track_shift_at(&self, k: usize, index: u32) -> V2 {
+    pub(crate) fn track_shift_at(&self, k: usize, index: u32) -> V2 {
         match self.track_part(k) {
             Some(p) => {
                 let part = &self.parts[p];

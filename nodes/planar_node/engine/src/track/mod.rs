@@ -11,6 +11,7 @@ pub(crate) mod gap;
 pub mod geometry;
 pub(crate) mod init;
 pub(crate) mod params;
+mod static_check;
 
 use crate::state::PlanarStateMachine;
 use crate::types::{Direction, Dynamics};
