@@ -3,7 +3,8 @@
 //!   `~/mover_adopt_track_orientation`, `~/mover_gear_in_pos_on_track_with_master_mover`,
 //!   `~/mover_gear_in_pos_on_track` (motion responses: warning and objectInfo),
 //!   `~/axis_power|move_absolute|halt` (virtual master axes, §5.8.4) and one per
-//!   MC_PlanarTrack method `~/track_<method>` (queries answer their value);
+//!   MC_PlanarTrack method `~/track_<method>` (queries answer their value), and
+//!   `~/track_set_init_parameters` (the §1.6 init parameters while the track is Disabled);
 //! - actions `~/mover_join_track`, `~/mover_leave_track`, `~/mover_move_on_track` (feedback:
 //!   busy/active, pose and the track position) and
 //!   `~/mover_gear_in_pos_on_track_with_master_mover` (feedback with `in_sync`; never
@@ -229,6 +230,34 @@ fn advanced(
         other_track_part_position_index,
         link_only_in_specified_part_positions,
     }
+}
+
+pub(crate) fn set_init_parameters_req(r: &TrackSetInitParametersRequest) -> Decoded {
+    let collision_range_mode = match r.collision_range_mode {
+        TrackSetInitParametersRequest::COLLISION_RANGE_AUTOMATIC => CollisionRangeMode::Automatic,
+        TrackSetInitParametersRequest::COLLISION_RANGE_MANUAL => CollisionRangeMode::Manual,
+        v => {
+            return Err(enum_error(
+                &r.track,
+                "collision_range_mode",
+                v as u32,
+                "0 Automatic, 1 Manual",
+            ))
+        }
+    };
+    track_cmd(
+        &r.track,
+        "set_init_parameters",
+        PlanarCommand::TrackSetInitParameters {
+            track: r.track.clone(),
+            max_mover_width: r.max_mover_width,
+            max_mover_height: r.max_mover_height,
+            check_static_collision: r.check_static_collision,
+            collision_range_mode,
+            collision_range_start: r.collision_range_start,
+            collision_range_end: r.collision_range_end,
+        },
+    )
 }
 
 pub(crate) fn append_line_req(r: &TrackAppendLineRequest) -> Decoded {
@@ -512,6 +541,12 @@ pub(crate) fn register_services(shell: &mut NodeShell<PlanarEngine>) -> Result<(
             )
         },
         respond::<TrackAddToGroupResponse>,
+    )?;
+    shell.command_service(
+        "track_set_init_parameters",
+        TrackSetInitParameters::service_type_name(),
+        |r: TrackSetInitParametersRequest| set_init_parameters_req(&r),
+        respond::<TrackSetInitParametersResponse>,
     )?;
     shell.command_service(
         "track_remove_from_group",

@@ -433,6 +433,24 @@ pub enum PlanarCommand {
         /// Track name.
         track: String,
     },
+    /// Sets the track's collision init parameters of §1.6 (the launch-config keys of the same
+    /// names) while the track is Disabled (proposal: init parameters take effect at Enable).
+    TrackSetInitParameters {
+        /// Track name.
+        track: String,
+        /// "Maximal mover width" \[mm\] (> 0).
+        max_mover_width: f64,
+        /// "Maximal mover height" \[mm\] (> 0).
+        max_mover_height: f64,
+        /// "Check collision against static objects".
+        check_static_collision: bool,
+        /// "Collision range mode".
+        collision_range_mode: crate::config::CollisionRangeMode,
+        /// "Collision range at start" \[mm\] (Manual mode; 0 in Automatic mode).
+        collision_range_start: f64,
+        /// "Collision range at end" \[mm\] (Manual mode; 0 in Automatic mode).
+        collision_range_end: f64,
+    },
 
     // --- MC_PlanarGroup (§3.4)
     /// `Enable(fb)` of a group.

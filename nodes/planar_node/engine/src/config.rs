@@ -392,6 +392,28 @@ pub struct TrackConfig {
     pub collision_range_end: f64,
 }
 
+impl TrackConfig {
+    /// Checks the collision init parameters (§1.6); `key` names the track in messages.
+    pub(crate) fn check_init_params(&self, key: &str) -> Result<(), Rejection> {
+        positive(&format!("{key}.max_mover_width"), self.max_mover_width)?;
+        positive(&format!("{key}.max_mover_height"), self.max_mover_height)?;
+        for (f, v) in [
+            ("collision_range_start", self.collision_range_start),
+            ("collision_range_end", self.collision_range_end),
+        ] {
+            non_negative(&format!("{key}.{f}"), v)?;
+            if v != 0.0 && self.collision_range_mode == CollisionRangeMode::Automatic {
+                return Err(bad(
+                    &format!("{key}.{f}"),
+                    v,
+                    "used only with collision_range_mode: manual",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for TrackConfig {
     fn default() -> Self {
         TrackConfig {
@@ -886,21 +908,7 @@ impl PlanarConfig {
                     "names must be non-empty and unique among tracks",
                 ));
             }
-            positive(&format!("{key}.max_mover_width"), t.max_mover_width)?;
-            positive(&format!("{key}.max_mover_height"), t.max_mover_height)?;
-            for (f, v) in [
-                ("collision_range_start", t.collision_range_start),
-                ("collision_range_end", t.collision_range_end),
-            ] {
-                non_negative(&format!("{key}.{f}"), v)?;
-                if v != 0.0 && t.collision_range_mode == CollisionRangeMode::Automatic {
-                    return Err(bad(
-                        &format!("{key}.{f}"),
-                        v,
-                        "used only with collision_range_mode: manual",
-                    ));
-                }
-            }
+            t.check_init_params(&key)?;
             if t.part_oid != 0 && !self.parts.iter().any(|p| p.oid == t.part_oid) {
                 return Err(bad(
                     &format!("{key}.part_oid"),

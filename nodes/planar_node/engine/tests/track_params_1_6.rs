@@ -168,3 +168,127 @@ fn bad_parameters_are_refused() {
     )
     .is_err());
 }
+
+fn set_params(
+    track: &str,
+    w: f64,
+    mode: CollisionRangeMode,
+    start: f64,
+    end: f64,
+) -> PlanarCommand {
+    PlanarCommand::TrackSetInitParameters {
+        track: track.into(),
+        max_mover_width: w,
+        max_mover_height: 155.0,
+        check_static_collision: true,
+        collision_range_mode: mode,
+        collision_range_start: start,
+        collision_range_end: end,
+    }
+}
+
+/// TrackSetInitParameters sets the same parameters as the launch config while the track is
+/// Disabled; the switch ranges follow at once.
+#[test]
+fn init_parameters_by_command_while_disabled() {
+    let mut s = Sim::new(switch(""));
+    let auto = track(&s, "T1").collision_range_end;
+    s.ok(set_params(
+        "T1",
+        300.0,
+        CollisionRangeMode::Manual,
+        0.0,
+        420.0,
+    ));
+    s.step();
+    let t = track(&s, "T1");
+    assert_eq!((t.max_mover_width, t.max_mover_height), (300.0, 155.0));
+    assert!(t.check_static_collision);
+    assert_eq!(t.collision_range_mode, CollisionRangeMode::Manual);
+    assert_eq!(
+        (t.collision_range_start, t.collision_range_end),
+        (0.0, 420.0)
+    );
+    // Back to Automatic: the range follows the wider mover (R = 171.7 → clearance 535.6).
+    s.ok(set_params(
+        "T1",
+        300.0,
+        CollisionRangeMode::Automatic,
+        0.0,
+        0.0,
+    ));
+    s.step();
+    let r = track(&s, "T1").collision_range_end;
+    assert!(r > auto + 100.0, "{r} vs {auto}");
+    // Once enabled, the init parameters are fixed.
+    enable_track(&mut s, "T1");
+    let e = s.err(set_params(
+        "T1",
+        155.0,
+        CollisionRangeMode::Automatic,
+        0.0,
+        0.0,
+    ));
+    assert_eq!(e.error_id, errors::E_INVALID_STATE, "{e}");
+    assert_eq!(track(&s, "T1").max_mover_width, 300.0);
+}
+
+#[test]
+fn bad_init_parameters_by_command_are_refused() {
+    let mut s = Sim::new(switch(""));
+    let before = track(&s, "T1");
+    for (c, key) in [
+        (
+            set_params("T1", f64::NAN, CollisionRangeMode::Automatic, 0.0, 0.0),
+            "max_mover_width",
+        ),
+        (
+            set_params("T1", -1.0, CollisionRangeMode::Automatic, 0.0, 0.0),
+            "max_mover_width",
+        ),
+        (
+            set_params("T1", f64::INFINITY, CollisionRangeMode::Automatic, 0.0, 0.0),
+            "max_mover_width",
+        ),
+        (
+            set_params("T1", 155.0, CollisionRangeMode::Manual, -5.0, 0.0),
+            "collision_range_start",
+        ),
+        (
+            set_params("T1", 155.0, CollisionRangeMode::Manual, 0.0, f64::NAN),
+            "collision_range_end",
+        ),
+        // A manual value in Automatic mode would be silently ignored.
+        (
+            set_params("T1", 155.0, CollisionRangeMode::Automatic, 0.0, 100.0),
+            "collision_range_end",
+        ),
+    ] {
+        let e = s.err(c);
+        assert_eq!(e.error_id, ErrorId::VALUE_OUT_OF_RANGE, "{e}");
+        assert!(e.message.contains(key), "{key}: {e}");
+        assert!(e.message.contains("T1"), "{e}");
+    }
+    let e = s.err(set_params(
+        "T9",
+        155.0,
+        CollisionRangeMode::Automatic,
+        0.0,
+        0.0,
+    ));
+    assert_eq!(e.error_id, ErrorId::UNKNOWN_OBJECT, "{e}");
+    s.step();
+    let after = track(&s, "T1");
+    assert_eq!(
+        (
+            after.max_mover_width,
+            after.check_static_collision,
+            after.collision_range_end
+        ),
+        (
+            before.max_mover_width,
+            before.check_static_collision,
+            before.collision_range_end
+        )
+    );
+}

@@ -508,6 +508,7 @@ impl PlanarEngine {
                 | C::TrackStartFromTrackAdvanced { .. }
                 | C::TrackEndAtTrackAdvanced { .. }
                 | C::TrackClear { .. }
+                | C::TrackSetInitParameters { .. }
         );
         // The geometry is stored in CS coordinates of the part position it was defined in.
         let target_track = match &cmd {
@@ -881,6 +882,27 @@ impl PlanarEngine {
                 let id = self.new_id();
                 ev(&mut self.pending, id, CommandState::Done);
                 reply(id, ReplyValue::Position(p))
+            }
+            C::TrackSetInitParameters {
+                track,
+                max_mover_width,
+                max_mover_height,
+                check_static_collision,
+                collision_range_mode,
+                collision_range_start,
+                collision_range_end,
+            } => {
+                let k = self.track(&track)?;
+                let cfg = crate::config::TrackConfig {
+                    max_mover_width,
+                    max_mover_height,
+                    check_static_collision,
+                    collision_range_mode,
+                    collision_range_start,
+                    collision_range_end,
+                    ..Default::default()
+                };
+                self.track_set_init_parameters(k, &cfg)
             }
             C::TrackGetPlanarObjectInfo { track } => {
                 let k = self.track(&track)?;

@@ -3,6 +3,11 @@
 //! mode" and "Collision range at start/end".
 
 use crate::config::{CollisionRangeMode, TrackConfig};
+use crate::engine::PlanarEngine;
+use crate::errors::{reject, E_INVALID_STATE};
+use crate::types::PlanarState;
+use crate::PlanarReply;
+use motion_core::Rejection;
 
 /// The collision parameters of one track.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,5 +71,33 @@ impl TrackParams {
             CollisionRangeMode::Automatic => automatic,
             CollisionRangeMode::Manual => self.manual_end,
         }
+    }
+}
+
+impl PlanarEngine {
+    /// TrackSetInitParameters: the §1.6 init parameters of track `k` from the fields of `p`
+    /// (validated like the launch config), admissible while the track is Disabled. The switch
+    /// ranges are recomputed by the caller (as after a geometry command).
+    pub(crate) fn track_set_init_parameters(
+        &mut self,
+        k: usize,
+        p: &TrackConfig,
+    ) -> Result<PlanarReply, Rejection> {
+        let who = self.track_who(k);
+        if self.tracks[k].sm.state != PlanarState::Disabled {
+            return Err(reject(
+                E_INVALID_STATE,
+                format!(
+                    "{who}: init parameters can be set only while the track is Disabled (it is {:?})",
+                    self.tracks[k].sm.state
+                ),
+            ));
+        }
+        p.check_init_params(&who).map_err(|e| Rejection {
+            message: e.message.replacen("config ", "TrackSetInitParameters: ", 1),
+            ..e
+        })?;
+        self.tracks[k].params = TrackParams::of(p);
+        self.done_now()
     }
 }
