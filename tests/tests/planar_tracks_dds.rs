@@ -3,7 +3,7 @@
 //! two movers join (one by action, one by service); the follower's `~/mover_move_on_track`
 //! action runs into the leader and is held at the gap (seen on `~/state`); a join while the
 //! track is Moving is refused with E_TRACK_MODE_CONFLICT; `~/track_get_length`,
-//! `~/track_get_position_at`; bad requests (unknown track, NaN, enum); the track drawn in
+//! `~/track_get_position_at`; `~/track_set_init_parameters` (Disabled only); bad requests (unknown track, NaN, enum); the track drawn in
 //! `~/markers`; LeaveTrack as an action; a virtual axis powered; a gear-in on a master mover as an action (in_sync feedback, cancel). With both request/reply mappings.
 
 use motion_msgs::action::{
@@ -206,6 +206,37 @@ async fn scenario(mapping: ServiceMapping) {
             .map(|st| (&st.object, &st.command))
             .collect::<Vec<_>>()
     );
+    // The §1.6 init parameters by service while the track is Disabled; an out-of-range mode
+    // is refused with its id.
+    let set_params = c
+        .client::<TrackSetInitParametersRequest, TrackSetInitParametersResponse>(
+            "/planar_node/track_set_init_parameters",
+            TrackSetInitParameters::service_type_name(),
+        )
+        .await;
+    let params = |mode: u8| TrackSetInitParametersRequest {
+        track: "loop".into(),
+        max_mover_width: 160.0,
+        max_mover_height: 170.0,
+        check_static_collision: true,
+        collision_range_mode: mode,
+        collision_range_start: 0.0,
+        collision_range_end: 0.0,
+    };
+    let r = call!(set_params, "set init parameters, bad mode", params(2));
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, motion_core::ErrorId::ENUM_OUT_OF_RANGE.0);
+    let r = call!(
+        set_params,
+        "set init parameters",
+        params(TrackSetInitParametersRequest::COLLISION_RANGE_MANUAL)
+    );
+    assert!(r.accepted, "{}", r.message);
+    let s = wait_state(&states, 10.0, "init parameters set", |s| {
+        s.tracks[0].max_mover_height == 170.0 && s.tracks[0].check_static_collision
+    })
+    .await;
+    assert_eq!(s.tracks[0].max_mover_width, 160.0);
     let enable = c
         .client::<TrackEnableRequest, TrackEnableResponse>(
             "/planar_node/track_enable",
@@ -241,6 +272,14 @@ async fn scenario(mapping: ServiceMapping) {
                 .all(|m| m.state == PlanarMoverState::STATE_ENABLED)
     })
     .await;
+    // Enabled: the init parameters are fixed.
+    let r = call!(
+        set_params,
+        "set init parameters while Enabled",
+        params(TrackSetInitParametersRequest::COLLISION_RANGE_AUTOMATIC)
+    );
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, planar_engine::errors::E_INVALID_STATE.0);
     assert!(s.tracks[0].closed_loop);
     let length = s.tracks[0].length;
     assert!(
