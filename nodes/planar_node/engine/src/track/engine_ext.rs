@@ -1322,6 +1322,13 @@ impl PlanarEngine {
                     ),
                 ));
             }
+            // The target track itself must be ready; the route uses Enabled tracks only.
+            if t.sm.state != PlanarState::Enabled {
+                return Err(reject(
+                    E_TRACK_NOT_READY,
+                    format!("{who}: target track '{}' is {:?}", t.name, t.sm.state),
+                ));
+            }
             let Some(route) = self.route(cur, kt) else {
                 return Err(reject(
                     E_TARGET_UNREACHABLE,
@@ -1389,8 +1396,9 @@ impl PlanarEngine {
         })
     }
 
-    /// Shortest route (by length of the tracks passed) from the end of `from` to `to`:
-    /// the tracks after `from`, ending with `to` (§5.6.5).
+    /// Shortest route (by length of the tracks passed) from the end of `from` to `to` over
+    /// traversable links between Enabled tracks: the tracks after `from`, ending with `to`
+    /// (§5.6.5). The start track is never passed again (that would be a cycle).
     fn route(&self, from: usize, to: usize) -> Option<Vec<usize>> {
         let n = self.tracks.len();
         let mut dist = vec![f64::INFINITY; n];
@@ -1419,7 +1427,12 @@ impl PlanarEngine {
             done[u] = true;
             for &k in &self.tracks[u].next {
                 let d = dist[u] + self.tracks[u].length();
-                if k != from && !done[k] && d < dist[k] && self.traversable(u, k) {
+                if k != from
+                    && !done[k]
+                    && d < dist[k]
+                    && self.tracks[k].sm.state == PlanarState::Enabled
+                    && self.traversable(u, k)
+                {
                     dist[k] = d;
                     prev[k] = u;
                 }
