@@ -13,7 +13,6 @@ mod common;
 mod track_common;
 use common::*;
 use motion_core::CommandState;
-use planar_engine::*;
 use track_common::*;
 
 /// T1 (0,-300)-(200,-300) and T2 (0,300)-(200,300) end at T3's start (500,0); T3 runs to
