@@ -180,8 +180,23 @@ pub(crate) struct Axis {
     pub lag_timer: f64,
     /// Driven by a Part 4 group motion (state SynchronizedMotion, plcopen_platform.md §5).
     pub group_motion: bool,
+    /// What the enabled software limits do (Tc2_MC2 §1.3 or R-SYS-1).
+    pub travel_limits: TravelLimits,
     /// State of the phasing / ext. setpoint / §4.7 extension FBs (engine/hooks.rs).
     pub ext: crate::engine::hooks::AxisExt,
+}
+
+/// What enabled software limits do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum TravelLimits {
+    /// Tc2_MC2 (§1.3): targets beyond are refused, endless motions stop exactly at them.
+    Planned,
+    /// `isg_mcp` linear axes (R-SYS-1): targets beyond are refused; the limits are monitored
+    /// every cycle (crossing → 91001, braking with `a_limit`), endless motions are not
+    /// planned to stop at them.
+    Monitored,
+    /// `isg_mcp` modulo axes: limit monitoring is not effective (R-SYS-1).
+    Off,
 }
 
 /// Velocities below this count as standstill \[u/s\].
@@ -237,6 +252,7 @@ impl Axis {
             in_target: false,
             lag_timer: 0.0,
             group_motion: false,
+            travel_limits: TravelLimits::Planned,
             ext: Default::default(),
             cfg,
         }
@@ -296,7 +312,9 @@ impl Axis {
 
     /// Enabled software limit in direction `dir` (§1.3).
     pub fn soft_limit(&self, dir: f64) -> Option<f64> {
-        if dir > 0.0 && self.cfg.en_max_soft_pos_limit {
+        if self.travel_limits == TravelLimits::Off {
+            None
+        } else if dir > 0.0 && self.cfg.en_max_soft_pos_limit {
             Some(self.cfg.max_soft_pos_limit)
         } else if dir < 0.0 && self.cfg.en_min_soft_pos_limit {
             Some(self.cfg.min_soft_pos_limit)
@@ -305,10 +323,24 @@ impl Axis {
         }
     }
 
+    /// R-SYS-1: the set position lies beyond an enabled software limit and still moves
+    /// outwards (moving back inside is allowed).
+    pub fn beyond_travel_limit(&self) -> bool {
+        if self.travel_limits != TravelLimits::Monitored {
+            return false;
+        }
+        let v = self.set.vel;
+        (v > V_REST && self.soft_limit(1.0).is_some_and(|l| self.set.pos > l))
+            || (v < -V_REST && self.soft_limit(-1.0).is_some_and(|l| self.set.pos < l))
+    }
+
     /// Plans an endless motion; with an enabled software limit in the travel direction it is
     /// planned to stop exactly at the limit (§1.3). Returns the profile and that limit.
     pub fn plan_velocity(&self, dir: f64, limits: &Limits) -> Option<(Profile1, Option<f64>)> {
-        if let Some(lim) = self.soft_limit(dir) {
+        if let Some(lim) = self
+            .soft_limit(dir)
+            .filter(|_| self.travel_limits == TravelLimits::Planned)
+        {
             let p = if (lim - self.set.pos) * dir > 0.0 {
                 self.plan_position(lim, 0.0, limits)?
             } else {

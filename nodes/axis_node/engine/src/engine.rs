@@ -676,6 +676,22 @@ impl AxisEngine {
                 monitor: options.enable_stop_position_monitoring,
             },
         };
+        // R-SYS-2 (`isg_mcp` modulo axes): a discrete motion started while moving.
+        let spec = match spec {
+            Spec::Position {
+                target,
+                limits,
+                monitor,
+            } if !buffered && matches!(req, Request::Absolute(_) | Request::Relative(_)) => {
+                Spec::Position {
+                    target: self.platform_modulo_abort_target(ax, target, &limits),
+                    limits,
+                    monitor,
+                }
+            }
+            s => s,
+        };
+        let a = &self.axes[ax];
         // Software limits (§1.3) and feed enables (§2.4).
         if let Spec::Position { target, .. } | Spec::Continuous { target, .. } = spec {
             if !target.is_finite() {
@@ -684,8 +700,8 @@ impl AxisEngine {
                     format!("axis '{name}': {fb}: target {target} is not finite"),
                 ));
             }
-            if (a.cfg.en_max_soft_pos_limit && target > a.cfg.max_soft_pos_limit)
-                || (a.cfg.en_min_soft_pos_limit && target < a.cfg.min_soft_pos_limit)
+            if a.soft_limit(1.0).is_some_and(|l| target > l)
+                || a.soft_limit(-1.0).is_some_and(|l| target < l)
             {
                 return Err(reject(
                     SOFT_LIMIT_TARGET,

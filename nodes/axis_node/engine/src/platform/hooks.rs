@@ -141,6 +141,7 @@ impl AxisEngine {
                 ("vb_not_referenced", a.vb_not_referenced),
                 ("vb_torq_limit_max", a.vb_torq_limit_max),
                 ("vb_monitor", a.vb_monitor),
+                ("a_limit", a.a_limit),
             ] {
                 if !v.is_finite() {
                     return Err(Rejection::not_finite(
@@ -149,7 +150,7 @@ impl AxisEngine {
                         v,
                     ));
                 }
-                if v < 0.0 || (v == 0.0 && key != "vb_monitor") {
+                if v < 0.0 || (v == 0.0 && key != "vb_monitor" && key != "a_limit") {
                     return Err(reject(
                         ErrorId::VALUE_OUT_OF_RANGE,
                         format!("axis '{name}': platform config key {key} = {v} must be > 0"),
@@ -175,6 +176,13 @@ impl AxisEngine {
             .collect();
         for ax in 0..self.axes.len() {
             self.sync_soft_limits(ax);
+            use crate::axis::TravelLimits;
+            self.axes[ax].travel_limits =
+                match (self.platform.isg(), self.platform.axes[ax].cfg.modulo) {
+                    (false, _) => TravelLimits::Planned,
+                    (true, false) => TravelLimits::Monitored,
+                    (true, true) => TravelLimits::Off,
+                };
         }
         Ok(())
     }
@@ -395,6 +403,31 @@ impl AxisEngine {
         cap
     }
 
+    /// R-SYS-2: on an `isg_mcp` modulo axis that moves, a discrete motion's target lying
+    /// behind the stopping point (with the new command's limits) is replaced by the first
+    /// equivalent position (same value modulo the period) at or beyond it in the travel
+    /// direction: the axis brakes over as many revolutions as needed. Otherwise unchanged.
+    pub(crate) fn platform_modulo_abort_target(
+        &self,
+        ax: usize,
+        target: f64,
+        limits: &motion_core::Limits,
+    ) -> f64 {
+        let a = &self.axes[ax];
+        let v = a.set.vel;
+        if !self.platform.isg() || !self.platform.axes[ax].cfg.modulo || v.abs() <= 1e-9 {
+            return target;
+        }
+        let period = a.cfg.modulo_value;
+        let stop = a.plan_stop(limits).end().pos;
+        let dir = v.signum();
+        let behind = (stop - target) * dir;
+        if behind <= 0.0 {
+            return target;
+        }
+        target + dir * period * (behind / period).ceil()
+    }
+
     /// Records an MC message (§7.2): class > 0 raises the axis error with the reaction.
     pub(crate) fn mc_message(&mut self, ax: usize, error_id: u32, remedy: u16, reaction: u16) {
         let m = McMessage {
@@ -409,14 +442,23 @@ impl AxisEngine {
         if remedy > 0 {
             let a = &mut self.axes[ax];
             a.raise_error(ErrorId(error_id), reaction >= 3, &mut self.fbs);
-            // Reaction class 1: decelerate with the programmed deceleration (class 2 = the
-            // quick stop with the limit values of the error reaction, class 3 = at once).
-            if reaction == 1 && a.moving() {
+            // Reaction class 1: decelerate with the programmed deceleration; class 2: quick
+            // stop with the limit deceleration `a_limit` (R-SYS-1) and the fast jerk; class 3:
+            // brake at once.
+            if (reaction == 1 || reaction == 2) && a.moving() {
+                let d = match reaction {
+                    1 => a.last_dec,
+                    _ => self.platform.axes[ax].a_limit(a.cfg.fast_deceleration),
+                };
                 let l = motion_core::Limits {
                     velocity: a.cfg.max_velocity,
-                    acceleration: a.last_dec,
-                    deceleration: a.last_dec,
-                    jerk: a.last_jerk,
+                    acceleration: d,
+                    deceleration: d,
+                    jerk: if reaction == 1 {
+                        a.last_jerk
+                    } else {
+                        a.cfg.fast_jerk
+                    },
                 };
                 let profile = a.plan_stop(&l);
                 let stop = profile.end().pos;
@@ -658,7 +700,9 @@ impl AxisEngine {
             if !self.axes[ax].error_id.is_none() {
                 continue;
             }
-            if vel_active && v.abs() > limit {
+            if self.axes[ax].beyond_travel_limit() {
+                self.mc_message(ax, MC_LIMIT_REACHED.0, 1, 2);
+            } else if vel_active && v.abs() > limit {
                 self.mc_message(ax, MC_ACTUAL_VELOCITY_EXCEEDED.0, 1, 3);
             } else if torque && torque_active && v.abs() > tlimit {
                 self.mc_message(ax, MC_ACTUAL_VELOCITY_TORQUE_LIMIT.0, 1, 3);

@@ -15,9 +15,13 @@
 //! * §12.2 raw FB layer ([`raw`]): FB_IDLE/ACTIVE/ERROR, re-trigger with the same order
 //!   number, the per-axis acknowledgement queue with clogging (4906).
 //!
-//! Not modelled: `msgs_interface_hash` of R-VER-1 (ROS layer), limit-switch braking of
-//! R-SYS-1 (91001) and the overshoot rule of R-SYS-2, Part 4 FBs in the raw layer, the
-//! unused globals of §2.3 (accepted in the config). A feed hold (R-SAF-5) is an effective
+//! * §11 R-SYS-1: enabled software limits of linear axes are travel limits, monitored every
+//!   cycle: crossing one → MC error 91001 (reaction class 2: braking with `a_limit`);
+//!   R-SYS-2: on modulo axes a discrete motion started while moving positions on its target
+//!   modulo after braking (linear axes travel back, as the planner does anyway).
+//!
+//! Not modelled: `msgs_interface_hash` of R-VER-1 (ROS layer), Part 4 FBs in the raw layer,
+//! the unused globals of §2.3 (accepted in the config). A feed hold (R-SAF-5) is an effective
 //! override of 0 (path-true for groups); overrides written during the hold apply after it.
 
 mod hooks;
@@ -69,6 +73,13 @@ pub struct AxisPlatformConfig {
     pub vb_torq_limit_max: f64,
     /// Referenced at start (R-SAF-6).
     pub referenced: bool,
+    /// Modulo axis (period = the axis' `modulo_value`): no limit-switch monitoring
+    /// (R-SYS-1); a discrete motion aborting a motion positions on its target modulo
+    /// after braking over as many revolutions as needed (R-SYS-2).
+    pub modulo: bool,
+    /// Rapid-traverse (limit) deceleration \[u/s²\] for braking at a travel limit (R-SYS-1)
+    /// and for error reaction class 2; 0 = the axis' `fast_deceleration`.
+    pub a_limit: f64,
 }
 
 impl Default for AxisPlatformConfig {
@@ -81,6 +92,8 @@ impl Default for AxisPlatformConfig {
             vb_not_referenced: 20000.0,
             vb_torq_limit_max: 10000.0,
             referenced: true,
+            modulo: false,
+            a_limit: 0.0,
         }
     }
 }
@@ -412,6 +425,15 @@ pub(crate) struct AxisPlatform {
 }
 
 impl AxisPlatform {
+    /// The R-SYS-1 braking deceleration: `a_limit`, or `fast_deceleration` when 0.
+    pub fn a_limit(&self, fast_deceleration: f64) -> f64 {
+        if self.cfg.a_limit > 0.0 {
+            self.cfg.a_limit
+        } else {
+            fast_deceleration
+        }
+    }
+
     /// Velocity monitoring limit \[u/s\] (R-SAF-1).
     pub fn velocity_limit(&self) -> f64 {
         match self.cfg.kind {
