@@ -2,7 +2,9 @@
 //! in-process (lockstep), with both request/reply mappings: a group of two axes is powered,
 //! enabled, moved by `move_linear_absolute` to its exact end positions, refused with error ids,
 //! stopped by `group_stop` (and released), read back by `read_status`; then an `isg_mcp` node
-//! refuses a group move in T1 without the enabling switch (4901, R-SAF-5).
+//! refuses a group move in T1 without the enabling switch (4901, R-SAF-5), and `~/events`
+//! (reliable, keep-all) carries the safety events, the acknowledgements and injected MC
+//! messages, without gaps and in order.
 
 use axis_node::AxisNode;
 use motion_msgs::action::{
@@ -10,15 +12,16 @@ use motion_msgs::action::{
     MoveLinearAbsolute, MoveLinearAbsoluteFeedback, MoveLinearAbsoluteGoal,
     MoveLinearAbsoluteResult,
 };
-use motion_msgs::msg::{AxesGroupState, CommandStatus, PlatformStatus};
+use motion_msgs::msg::{AxesGroupState, AxisEvent, CommandStatus, PlatformStatus};
 use motion_msgs::srv::{
     AxesGroupAddAxis, AxesGroupAddAxisRequest, AxesGroupAddAxisResponse, AxesGroupCommand,
     AxesGroupCommandRequest, AxesGroupCommandResponse, AxesGroupReadActual,
     AxesGroupReadActualRequest, AxesGroupReadActualResponse, AxesGroupReadStatus,
     AxesGroupReadStatusRequest, AxesGroupReadStatusResponse, AxesGroupStop, AxesGroupStopRequest,
-    AxesGroupStopResponse, GetOutputs, GetOutputsRequest, GetOutputsResponse, Power, PowerRequest,
-    PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode,
-    SafetyOperatingModeRequest, SafetyOperatingModeResponse,
+    AxesGroupStopResponse, GetOutputs, GetOutputsRequest, GetOutputsResponse,
+    PlatformInjectMcMessage, PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse,
+    Power, PowerRequest, PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse,
+    SafetyOperatingMode, SafetyOperatingModeRequest, SafetyOperatingModeResponse,
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, ServiceMapping};
@@ -357,6 +360,30 @@ async fn safety(mapping: ServiceMapping) {
     let mut c = ClientNode::new(domain, "test_client", mapping);
     let platform =
         c.subscribe::<PlatformStatus>("/axis_node/platform/status", PlatformStatus::type_name());
+    // ~/events with a keep-all reader, collected in the background.
+    let events: std::sync::Arc<std::sync::Mutex<Vec<AxisEvent>>> = Default::default();
+    {
+        use ros2_client::qos::{History, QosProfile};
+        let qos = QosProfile::publisher_default().history(History::KeepAll);
+        let topic = c
+            .node
+            .create_topic(
+                &ClientNode::name("/axis_node/events"),
+                AxisEvent::type_name(),
+                &qos,
+            )
+            .unwrap();
+        let sub = c
+            .node
+            .create_subscription::<AxisEvent>(&topic, Some(qos))
+            .unwrap();
+        let sink = events.clone();
+        tokio::spawn(async move {
+            while let Ok((e, _)) = sub.async_take().await {
+                sink.lock().unwrap().push(e);
+            }
+        });
+    }
     // Start-up over (R-INIT-1), then power.
     within(20.0, "platform started", async {
         loop {
@@ -463,6 +490,101 @@ async fn safety(mapping: ServiceMapping) {
     assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
     assert!((result.positions[0] - 10.0).abs() < 1e-9, "{result:?}");
     assert!((result.positions[1] - 20.0).abs() < 1e-9, "{result:?}");
+
+    // An MC warning and an MC error injected on x arrive on ~/events, after the safety event
+    // of T1 and the acknowledgements of the move.
+    let inject = c
+        .client::<PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse>(
+            "/axis_node/sim/inject_mc_message",
+            PlatformInjectMcMessage::service_type_name(),
+        )
+        .await;
+    for (error_id, remedy, reaction) in [(12345, 0, 0), (91001, 1, 2)] {
+        let r = within(
+            5.0,
+            "inject_mc_message",
+            inject.async_call_service(PlatformInjectMcMessageRequest {
+                axis: "x".into(),
+                error_id,
+                behebungs_klasse: remedy,
+                reaktions_klasse: reaction,
+            }),
+        )
+        .await
+        .unwrap();
+        assert!(r.accepted, "{}", r.message);
+    }
+    let log = within(10.0, "the MC error on ~/events", async {
+        loop {
+            {
+                let log = events.lock().unwrap();
+                if log
+                    .iter()
+                    .any(|e| e.kind == AxisEvent::KIND_ERROR && e.error_id == 91001)
+                {
+                    return log.clone();
+                }
+            }
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
+    })
+    .await;
+    // Reliable keep-all: no sequence gaps.
+    for (k, e) in log.iter().enumerate() {
+        assert_eq!(e.seq, log[0].seq + k as u64, "gap before {e:?}");
+    }
+    let pos = |f: &dyn Fn(&AxisEvent) -> bool, what: &str| {
+        log.iter()
+            .position(|e| f(e))
+            .unwrap_or_else(|| panic!("{what} missing in {log:#?}"))
+    };
+    let t1 = pos(
+        &|e| {
+            e.kind == AxisEvent::KIND_SAFETY && e.state == "operating_mode" && e.text.contains("T1")
+        },
+        "safety event T1",
+    );
+    // The move with START: accepted, then done (the refused one has no command: rejected at
+    // its Execute edge, its error is in the goal's result).
+    let accepted = pos(
+        &|e| {
+            e.kind == AxisEvent::KIND_ACKNOWLEDGEMENT
+                && e.object == "g"
+                && e.state == "ACCEPTED"
+                && e.text.contains("move_linear_absolute")
+        },
+        "acknowledgement ACCEPTED",
+    );
+    let done = pos(
+        &|e| {
+            e.kind == AxisEvent::KIND_ACKNOWLEDGEMENT
+                && e.object == "g"
+                && e.state == "DONE"
+                && e.command_id == log[accepted].command_id
+        },
+        "acknowledgement DONE",
+    );
+    pos(
+        &|e| e.kind == AxisEvent::KIND_SAFETY && e.state == "enabling_switch",
+        "safety event enabling switch",
+    );
+    let warning = pos(
+        &|e| e.kind == AxisEvent::KIND_WARNING && e.error_id == 12345 && e.object == "x",
+        "MC warning",
+    );
+    let error = pos(
+        &|e| e.kind == AxisEvent::KIND_ERROR && e.error_id == 91001,
+        "MC error",
+    );
+    let e = &log[error];
+    assert_eq!(
+        (e.object.as_str(), e.remedy_class, e.reaction_class),
+        ("x", 1, 2)
+    );
+    assert!(
+        t1 < accepted && accepted < done && done < warning && warning < error,
+        "{log:#?}"
+    );
 
     drop(c);
     node.stop().await;

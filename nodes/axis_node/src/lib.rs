@@ -23,6 +23,7 @@ mod ca;
 mod config_tests;
 mod convert;
 mod engine_config;
+pub mod events;
 mod extensions;
 mod fbs;
 mod groups;
@@ -298,5 +299,6 @@ fn setup(
     convert::register_topics(shell, names)?;
     groups::register(shell, &groups)?;
     platform::register(shell)?;
+    events::register(shell)?;
     Ok(())
 }

@@ -173,6 +173,8 @@ pub struct NodeShell<E: Engine> {
     pub registry: Arc<CommandRegistry>,
     tasks: TaskSet,
     spinner: Option<JoinHandle<()>>,
+    /// Copies of the command events with their labels (see [`NodeShell::command_event_tap`]).
+    taps: Vec<tokio::sync::mpsc::UnboundedSender<(CommandEvent, CommandLabel)>>,
 }
 
 /// The answer of a command service (README "ROS API rules"): accepted with the command id, or
@@ -307,6 +309,7 @@ where
             settings,
             tasks: TaskSet::default(),
             spinner: None,
+            taps: Vec::new(),
         })
     }
 
@@ -331,6 +334,16 @@ where
         Ok(())
     }
 
+    /// A copy of every command event, with its label, in the order `~/command_status`
+    /// publishes them (e.g. for a node's own event stream). Call before the node starts.
+    pub fn command_event_tap(
+        &mut self,
+    ) -> tokio::sync::mpsc::UnboundedReceiver<(CommandEvent, CommandLabel)> {
+        let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
+        self.taps.push(tx);
+        rx
+    }
+
     fn spawn_command_status(
         &mut self,
         mut events: UnboundedReceiver<CommandEvent>,
@@ -349,9 +362,13 @@ where
             .map_err(err("publisher"))?;
         let registry = self.registry.clone();
         let handle = self.handle.clone();
+        let taps = std::mem::take(&mut self.taps);
         self.tasks.spawn(async move {
             while let Some(ev) = events.recv().await {
                 let label = registry.label(&ev);
+                for t in &taps {
+                    let _ = t.send((ev, label.clone()));
+                }
                 let o = motion_core::ExecuteOutputs::from(ev.state);
                 let msg = CommandStatus {
                     stamp: stamp_from_secs(handle.snapshot().sim_time),

@@ -778,6 +778,9 @@ impl AxisEngine {
                 Vec::new()
             },
             clog_warnings: self.raw.warnings.len(),
+            recent_clog_warnings: self.raw.warnings
+                [self.raw.warnings.len().saturating_sub(RECENT_CLOG_WARNINGS)..]
+                .to_vec(),
             g_order_id: p.g_order_id,
             operating_mode: p.mode,
             enabling_switch: p.enabling_switch,

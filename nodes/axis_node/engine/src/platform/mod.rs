@@ -375,6 +375,9 @@ pub struct AxisSafetyStatus {
     pub messages: Vec<McMessage>,
 }
 
+/// Clog warnings kept in the snapshot.
+pub const RECENT_CLOG_WARNINGS: usize = 8;
+
 /// Platform state (snapshot, `~/platform/status`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PlatformStatus {
@@ -392,6 +395,8 @@ pub struct PlatformStatus {
     pub errors: Vec<ErrorId>,
     /// Raw-layer warnings so far (4906 acknowledgement clog, R-HS-5).
     pub clog_warnings: usize,
+    /// The last [`RECENT_CLOG_WARNINGS`] of them, oldest first (for `~/events`).
+    pub recent_clog_warnings: Vec<raw::RawWarning>,
     /// Next order number.
     pub g_order_id: u32,
     /// Operating mode.
