@@ -535,7 +535,7 @@ async fn safety(mapping: ServiceMapping) {
     }
     let pos = |f: &dyn Fn(&AxisEvent) -> bool, what: &str| {
         log.iter()
-            .position(|e| f(e))
+            .position(f)
             .unwrap_or_else(|| panic!("{what} missing in {log:#?}"))
     };
     let t1 = pos(
