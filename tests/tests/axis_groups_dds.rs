@@ -1,7 +1,8 @@
 //! axis_node's PLCopen Part 4 axis groups and ISG platform safety services over real DDS,
 //! in-process (lockstep), with both request/reply mappings: a group of two axes is powered,
 //! enabled, moved by `move_linear_absolute` to its exact end positions, refused with error ids,
-//! stopped by `group_stop` (and released), read back by `read_status`; then an `isg_mcp` node
+//! moved again by the `move_linear_relative` service, stopped by `group_stop` (and released),
+//! read back by `read_status`; then an `isg_mcp` node
 //! refuses a group move in T1 without the enabling switch (4901, R-SAF-5), and `~/events`
 //! (reliable, keep-all) carries the safety events, the acknowledgements and injected MC
 //! messages, without gaps and in order.
@@ -19,9 +20,10 @@ use motion_msgs::srv::{
     AxesGroupReadActualRequest, AxesGroupReadActualResponse, AxesGroupReadStatus,
     AxesGroupReadStatusRequest, AxesGroupReadStatusResponse, AxesGroupStop, AxesGroupStopRequest,
     AxesGroupStopResponse, GetOutputs, GetOutputsRequest, GetOutputsResponse,
-    PlatformInjectMcMessage, PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse,
-    Power, PowerRequest, PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse,
-    SafetyOperatingMode, SafetyOperatingModeRequest, SafetyOperatingModeResponse,
+    MoveLinearRelativeRequest, MoveLinearRelativeResponse, PlatformInjectMcMessage,
+    PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse, Power, PowerRequest,
+    PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode,
+    SafetyOperatingModeRequest, SafetyOperatingModeResponse,
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, ServiceMapping};
@@ -190,6 +192,77 @@ async fn groups(mapping: ServiceMapping) {
     assert!(p.accepted, "{}", p.message);
     assert_eq!(p.values.len(), 2);
     assert!((p.values[0] - 30.0).abs() < 1e-9 && (p.values[1] - 40.0).abs() < 1e-9);
+
+    // The same kind of motion as a service: accepted at once with its command id, Done on
+    // ~/command_status; a bad request is refused at once with its id.
+    let mr = c
+        .client::<MoveLinearRelativeRequest, MoveLinearRelativeResponse>(
+            "/axis_node/groups/g/move_linear_relative",
+            motion_msgs::srv::MoveLinearRelative::service_type_name(),
+        )
+        .await;
+    let req = |distance: Vec<f64>| MoveLinearRelativeRequest {
+        distance,
+        velocity: 500.0,
+        coord_system: 1,
+        ..Default::default()
+    };
+    let r = within(
+        5.0,
+        "move_linear_relative service",
+        mr.async_call_service(req(vec![-10.0, 5.0])),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted && r.command_id > 0, "{}", r.message);
+    within(10.0, "command_status Done of the service move", async {
+        loop {
+            let (s, _) = statuses.async_take().await.unwrap();
+            if s.command_id == r.command_id && s.done {
+                assert_eq!(
+                    (s.object.as_str(), s.command.as_str()),
+                    ("g", "move_linear_relative")
+                );
+                break;
+            }
+        }
+    })
+    .await;
+    let bad = within(
+        5.0,
+        "move_linear_relative NaN",
+        mr.async_call_service(req(vec![f64::NAN, 0.0])),
+    )
+    .await
+    .unwrap();
+    assert!(!bad.accepted);
+    assert_eq!(bad.error_id, 0x7F02, "{}", bad.message);
+    let p = within(
+        5.0,
+        "read_actual_position after the service move",
+        rp.async_call_service(AxesGroupReadActualRequest { coord_system: 1 }),
+    )
+    .await
+    .unwrap();
+    assert!((p.values[0] - 20.0).abs() < 1e-9 && (p.values[1] - 45.0).abs() < 1e-9);
+    // And back to (30, 40).
+    let r = within(
+        5.0,
+        "move_linear_relative back",
+        mr.async_call_service(req(vec![10.0, -5.0])),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "{}", r.message);
+    within(10.0, "command_status Done of the way back", async {
+        loop {
+            let (s, _) = statuses.async_take().await.unwrap();
+            if s.command_id == r.command_id && s.done {
+                break;
+            }
+        }
+    })
+    .await;
 
     // Bad requests with their error ids: coord_system out of range (0x7F03), unknown axis
     // (0x7F01), NaN target (0x7F02, in the goal's result), wrong number of values (4902).

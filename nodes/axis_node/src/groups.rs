@@ -7,7 +7,8 @@
 //!   `execute: false` releases the group's latest MC_GroupStop);
 //! - actions `move_linear_absolute`, `move_linear_relative`, `move_path`, `group_halt`
 //!   (feedback busy/active/positions; result Done | CommandAborted | Error; cancel =
-//!   MC_GroupHalt, the engine's `cancel`);
+//!   MC_GroupHalt, the engine's `cancel`), and services of the same names and fields (one
+//!   Execute edge; the goal decodes through the service request);
 //! - the state topic `~/groups/<group>/state` (`motion_msgs/AxesGroupState`).
 //!
 //! The group is named by the service path, so requests carry only the FB's inputs.
@@ -363,6 +364,61 @@ fn group_of<'a>(snap: &'a Stamped<AxisSnapshot>, group: &str) -> Option<&'a Grou
     snap.state.groups.iter().find(|g| g.name == group)
 }
 
+fn decode_move_linear_absolute(
+    group: String,
+    g: MoveLinearAbsoluteRequest,
+) -> Result<GroupCommand, Rejection> {
+    Ok(GroupCommand::MoveLinearAbsolute(MoveLinear {
+        group,
+        position: g.position,
+        velocity: g.velocity,
+        acceleration: g.acceleration,
+        deceleration: g.deceleration,
+        jerk: g.jerk,
+        coord_system: coord(g.coord_system)?,
+        buffer_mode: buffer_mode(g.buffer_mode)?,
+        transition_mode: transition(g.transition_mode)?,
+    }))
+}
+
+fn decode_move_linear_relative(
+    group: String,
+    g: MoveLinearRelativeRequest,
+) -> Result<GroupCommand, Rejection> {
+    Ok(GroupCommand::MoveLinearRelative(MoveLinear {
+        group,
+        position: g.distance,
+        velocity: g.velocity,
+        acceleration: g.acceleration,
+        deceleration: g.deceleration,
+        jerk: g.jerk,
+        coord_system: coord(g.coord_system)?,
+        buffer_mode: buffer_mode(g.buffer_mode)?,
+        transition_mode: transition(g.transition_mode)?,
+    }))
+}
+
+fn decode_move_path(group: String, g: MovePathRequest) -> Result<GroupCommand, Rejection> {
+    Ok(GroupCommand::MovePath(MovePathCommand {
+        group,
+        velocity: g.velocity,
+        acceleration: g.acceleration,
+        deceleration: g.deceleration,
+        jerk: g.jerk,
+        coord_system: coord(g.coord_system)?,
+        buffer_mode: buffer_mode(g.buffer_mode)?,
+    }))
+}
+
+fn decode_group_halt(group: String, g: AxesGroupHaltRequest) -> Result<GroupCommand, Rejection> {
+    Ok(GroupCommand::GroupHalt(GroupHalt {
+        group,
+        deceleration: g.deceleration,
+        jerk: g.jerk,
+        buffer_mode: buffer_mode(g.buffer_mode)?,
+    }))
+}
+
 macro_rules! group_action {
     ($binding:ident, $action:ident, $goal:ident, $result:ident, $feedback:ident, $fb:literal, $decode:expr) => {
         struct $binding {
@@ -375,13 +431,13 @@ macro_rules! group_action {
             type Feedback = $feedback;
 
             fn action_type_name() -> ActionTypeName {
-                $action::action_type_name()
+                motion_msgs::action::$action::action_type_name()
             }
 
+            // The goal decodes through the service request's path.
             fn command(&self, g: &$goal) -> Result<(AxisCommand, CommandLabel), Rejection> {
-                let decode: fn(String, &$goal) -> Result<GroupCommand, Rejection> = $decode;
                 Ok((
-                    AxisCommand::Group(decode(self.group.clone(), g)?),
+                    AxisCommand::Group($decode(self.group.clone(), g.into())?),
                     label(&self.group, $fb),
                 ))
             }
@@ -438,19 +494,7 @@ group_action!(
     MoveLinearAbsoluteResult,
     MoveLinearAbsoluteFeedback,
     "move_linear_absolute",
-    |group, g| {
-        Ok(GroupCommand::MoveLinearAbsolute(MoveLinear {
-            group,
-            position: g.position.clone(),
-            velocity: g.velocity,
-            acceleration: g.acceleration,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            coord_system: coord(g.coord_system)?,
-            buffer_mode: buffer_mode(g.buffer_mode)?,
-            transition_mode: transition(g.transition_mode)?,
-        }))
-    }
+    decode_move_linear_absolute
 );
 
 group_action!(
@@ -460,19 +504,7 @@ group_action!(
     MoveLinearRelativeResult,
     MoveLinearRelativeFeedback,
     "move_linear_relative",
-    |group, g| {
-        Ok(GroupCommand::MoveLinearRelative(MoveLinear {
-            group,
-            position: g.distance.clone(),
-            velocity: g.velocity,
-            acceleration: g.acceleration,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            coord_system: coord(g.coord_system)?,
-            buffer_mode: buffer_mode(g.buffer_mode)?,
-            transition_mode: transition(g.transition_mode)?,
-        }))
-    }
+    decode_move_linear_relative
 );
 
 group_action!(
@@ -482,17 +514,7 @@ group_action!(
     MovePathResult,
     MovePathFeedback,
     "move_path",
-    |group, g| {
-        Ok(GroupCommand::MovePath(MovePathCommand {
-            group,
-            velocity: g.velocity,
-            acceleration: g.acceleration,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            coord_system: coord(g.coord_system)?,
-            buffer_mode: buffer_mode(g.buffer_mode)?,
-        }))
-    }
+    decode_move_path
 );
 
 group_action!(
@@ -502,14 +524,7 @@ group_action!(
     AxesGroupHaltResult,
     AxesGroupHaltFeedback,
     "group_halt",
-    |group, g| {
-        Ok(GroupCommand::GroupHalt(GroupHalt {
-            group,
-            deceleration: g.deceleration,
-            jerk: g.jerk,
-            buffer_mode: buffer_mode(g.buffer_mode)?,
-        }))
-    }
+    decode_group_halt
 );
 
 /// Registers everything of the configured groups (names in configuration order, as in the
@@ -523,6 +538,39 @@ pub(crate) fn register(
         register_reads(shell, group)?;
         register_group_stop(shell, group)?;
         let g = || group.clone();
+        // Every group motion is also a service (Execute edge; progress on ~/command_status).
+        group_service(
+            shell,
+            group,
+            "move_linear_absolute",
+            motion_msgs::srv::MoveLinearAbsolute::service_type_name(),
+            decode_move_linear_absolute,
+            |o, _| respond::<MoveLinearAbsoluteResponse>(o),
+        )?;
+        group_service(
+            shell,
+            group,
+            "move_linear_relative",
+            motion_msgs::srv::MoveLinearRelative::service_type_name(),
+            decode_move_linear_relative,
+            |o, _| respond::<MoveLinearRelativeResponse>(o),
+        )?;
+        group_service(
+            shell,
+            group,
+            "move_path",
+            motion_msgs::srv::MovePath::service_type_name(),
+            decode_move_path,
+            |o, _| respond::<MovePathResponse>(o),
+        )?;
+        group_service(
+            shell,
+            group,
+            "group_halt",
+            motion_msgs::srv::AxesGroupHalt::service_type_name(),
+            decode_group_halt,
+            |o, _| respond::<AxesGroupHaltResponse>(o),
+        )?;
         shell.action(
             &format!("groups/{group}/move_linear_absolute"),
             MoveLinearAbsoluteAction { group: g() },
