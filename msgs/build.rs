@@ -1443,6 +1443,9 @@ fn gen_package_modules(out: &mut String, p: &Package, ind: &str) {
     }
 }
 
+/// A goal field that is not part of the FB call (see [`gen_goal_to_request`]).
+const GOAL_ONLY_FIELD: &str = "fb_instance";
+
 /// For an action offered beside a service of the same name (a motion FB is both, README
 /// "ROS API rules"): `From<&XGoal> for XRequest` when every goal field is a request field of
 /// the same type; the request's other fields keep their defaults. So a shell decodes a goal
@@ -1456,7 +1459,10 @@ fn gen_goal_to_request(out: &mut String, p: &Package, name: &str, goal: &Message
     }) else {
         return;
     };
-    let fields_match = goal.fields.iter().all(|g| {
+    // `fb_instance` names the action layer's FB instance (re-trigger, plcopen_platform.md
+    // §12.1): a goal-only field, not an input of the FB call.
+    let call_fields = || goal.fields.iter().filter(|g| g.name != GOAL_ONLY_FIELD);
+    let fields_match = call_fields().all(|g| {
         request
             .fields
             .iter()
@@ -1477,7 +1483,7 @@ fn gen_goal_to_request(out: &mut String, p: &Package, name: &str, goal: &Message
          {ind}    fn from(g: &{name}Goal) -> Self {{\n\
          {ind}        super::srv::{name}Request {{"
     );
-    for f in &goal.fields {
+    for f in call_fields() {
         let (id, _) = rust_ident(&f.name);
         let _ = writeln!(out, "{ind}            {id}: g.{id}.clone(),");
     }

@@ -140,6 +140,41 @@ async fn scenario(mapping: ServiceMapping) {
     assert!(result.error);
     assert_eq!(result.error_id, 0x7F01);
 
+    // fb_instance (§12.1): a goal of another instance takes over in the engine (the first
+    // ends ABORTED, no reason); a goal of the same instance re-triggers it (ABORTED,
+    // command_aborted, "retriggered"); the last runs to Done.
+    let slow = |position: f64, fb_instance: &str| MoveAbsoluteGoal {
+        axis: "x".into(),
+        position,
+        velocity: 20.0,
+        fb_instance: fb_instance.into(),
+        ..Default::default()
+    };
+    let (g1, _) = send_goal(&ac, "instance a", slow(0.0, "a")).await;
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    let (g2, _) = send_goal(&ac, "instance b", slow(10.0, "b")).await;
+    let (status, r1) = within(20.0, "a result", ac.async_request_result(g1))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted, "{r1:?}");
+    assert!(
+        r1.command_aborted && !r1.error && r1.message.is_empty(),
+        "{r1:?}"
+    );
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    let (g3, _) = send_goal(&ac, "instance b again", slow(5.0, "b")).await;
+    let (status, r2) = within(20.0, "b result", ac.async_request_result(g2))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Aborted, "{r2:?}");
+    assert!(r2.command_aborted && !r2.error, "{r2:?}");
+    assert_eq!(r2.message, "retriggered");
+    let (status, r3) = within(20.0, "re-triggered result", ac.async_request_result(g3))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded, "{r3:?}");
+    assert!((r3.position - 5.0).abs() < 1e-6, "{r3:?}");
+
     // Cancel: an endless MC_MoveVelocity; cancel = MC_Halt, the goal ends Canceled.
     let vc = c
         .action::<MoveVelocityGoal, MoveVelocityResult, MoveVelocityFeedback>(

@@ -48,6 +48,10 @@ macro_rules! motion_action {
                 ($decode)(g)
             }
 
+            fn instance(&self, g: &$goal) -> Option<String> {
+                Some(g.fb_instance.clone())
+            }
+
             fn reached_query(&self, id: CmdId) -> Option<AxisCommand> {
                 let flag: Option<fn(&FbOutputs) -> bool> = $reached;
                 flag.map(|_| AxisCommand::ReadFbOutputs { id })

@@ -434,6 +434,10 @@ macro_rules! group_action {
                 motion_msgs::action::$action::action_type_name()
             }
 
+            fn instance(&self, g: &$goal) -> Option<String> {
+                Some(g.fb_instance.clone())
+            }
+
             // The goal decodes through the service request's path.
             fn command(&self, g: &$goal) -> Result<(AxisCommand, CommandLabel), Rejection> {
                 Ok((

@@ -576,9 +576,7 @@ where
             .map_err(err("action server"))?;
         let server = Arc::new(AsyncActionServer::new(server));
         let binding = Arc::new(binding);
-        let goals: Arc<Mutex<BTreeMap<ros2_client::action::GoalId, CmdId>>> = Arc::default();
-        // Goals whose cancel was accepted: they end as Canceled when the command is aborted.
-        let canceled: Arc<Mutex<BTreeSet<ros2_client::action::GoalId>>> = Arc::default();
+        let book: Arc<GoalBook> = Arc::default();
         // One result at a time: ros2-client reads result requests from one stream.
         let result_lock = Arc::new(tokio::sync::Mutex::new(()));
         let feedback_period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(1.0));
@@ -587,8 +585,7 @@ where
         // ends as Canceled when the engine reports the command aborted.
         {
             let server = server.clone();
-            let goals = goals.clone();
-            let canceled = canceled.clone();
+            let book = book.clone();
             let handle = self.handle.clone();
             let aname = name.to_string();
             self.tasks.spawn(async move {
@@ -601,7 +598,7 @@ where
                         }
                     };
                     let targets: Vec<(ros2_client::action::GoalId, CmdId)> = {
-                        let g = goals.lock().unwrap_or_else(|e| e.into_inner());
+                        let g = book.goals.lock().unwrap_or_else(|e| e.into_inner());
                         cancel
                             .goals()
                             .filter_map(|gid| g.get(&gid).map(|c| (gid, *c)))
@@ -611,14 +608,14 @@ where
                     for (gid, cid) in targets {
                         // Marked before the engine aborts the command: the goal task may see
                         // the Aborted event before this task sees the cancel's reply.
-                        canceled
+                        book.canceled
                             .lock()
                             .unwrap_or_else(|e| e.into_inner())
                             .insert(gid);
                         match handle.cancel(cid).await {
                             Ok(()) => accepted.push(gid),
                             Err(r) => {
-                                canceled
+                                book.canceled
                                     .lock()
                                     .unwrap_or_else(|e| e.into_inner())
                                     .remove(&gid);
@@ -654,8 +651,7 @@ where
                 let server = server.clone();
                 let binding = binding.clone();
                 let handle = handle.clone();
-                let goals = goals.clone();
-                let canceled = canceled.clone();
+                let book = book.clone();
                 let result_lock = result_lock.clone();
                 let aname = aname.clone();
                 children.spawn(async move {
@@ -679,14 +675,13 @@ where
                         &goal,
                         goal_id,
                         &handle,
-                        &goals,
-                        &canceled,
+                        &book,
                         &server,
                         executing.clone(),
                         feedback_period,
                     )
                     .await;
-                    goals
+                    book.goals
                         .lock()
                         .unwrap_or_else(|e| e.into_inner())
                         .remove(&goal_id);
@@ -860,6 +855,13 @@ pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
     ) -> Self::Result {
         self.result(goal, snap, end, rejection)
     }
+    /// The goal's FB instance name (`fb_instance`, plcopen_platform.md §12.1), if it names
+    /// one: a goal accepted while an earlier goal of the same instance runs re-triggers the
+    /// instance; the earlier goal then ends ABORTED (command_aborted) with "retriggered".
+    /// Default: every goal is a fresh instance.
+    fn instance(&self, _goal: &Self::Goal) -> Option<String> {
+        None
+    }
     /// For FBs whose Done-type output is reached while the command runs on (InVelocity,
     /// InEndVelocity, InTorque): the query of the running command's outputs, asked at the
     /// feedback rate. Default: none, the goal succeeds only at the final Done.
@@ -873,14 +875,35 @@ pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
     }
 }
 
+/// The running goal of an FB instance (re-trigger, §12.1): `marked` once a new goal of the
+/// instance is being submitted, `end` signalled when it has been accepted.
+#[derive(Default)]
+struct Retrigger {
+    marked: std::sync::atomic::AtomicBool,
+    end: tokio::sync::Notify,
+}
+
+/// Running goals by FB instance name.
+type Instances = Mutex<std::collections::HashMap<String, Arc<Retrigger>>>;
+
+/// The running goals of one action server.
+#[derive(Default)]
+struct GoalBook {
+    /// Goal → the engine command it runs.
+    goals: Mutex<BTreeMap<ros2_client::action::GoalId, CmdId>>,
+    /// Goals whose cancel was accepted: they end as Canceled when the command is aborted.
+    canceled: Mutex<BTreeSet<ros2_client::action::GoalId>>,
+    /// Goals by FB instance name (re-trigger).
+    instances: Instances,
+}
+
 #[allow(clippy::too_many_arguments)]
 async fn run_goal<E: Engine, B: ActionBinding<E>>(
     binding: &B,
     goal: &B::Goal,
     goal_id: ros2_client::action::GoalId,
     handle: &ControllerHandle<E>,
-    goals: &Mutex<BTreeMap<ros2_client::action::GoalId, CmdId>>,
-    canceled: &Mutex<BTreeSet<ros2_client::action::GoalId>>,
+    book: &GoalBook,
     server: &AsyncActionServer<B::Goal, B::Result, B::Feedback>,
     executing: ros2_client::action::ExecutingGoalHandle<B::Goal>,
     feedback_period: Duration,
@@ -896,18 +919,56 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
         Ok(c) => c,
         Err(r) => return refused(r),
     };
+    // Re-trigger: the running goal of the same instance is marked before the new command
+    // is submitted (its Aborted event may come in the same cycle), and ended once the new
+    // command is accepted; a refused re-trigger leaves it running.
+    let instance = binding.instance(goal).filter(|n| !n.is_empty());
+    let own = Arc::new(Retrigger::default());
+    let previous = instance.as_ref().and_then(|n| {
+        book.instances
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(n)
+            .cloned()
+    });
+    if let Some(p) = &previous {
+        p.marked.store(true, std::sync::atomic::Ordering::SeqCst);
+    }
     let (reply, mut events) = match handle.call_watched(cmd, Some(label)).await {
         Ok(x) => x,
-        Err(r) => return refused(r),
+        Err(r) => {
+            if let Some(p) = &previous {
+                p.marked.store(false, std::sync::atomic::Ordering::SeqCst);
+            }
+            return refused(r);
+        }
+    };
+    if let Some(n) = &instance {
+        book.instances
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(n.clone(), own.clone());
+    }
+    if let Some(p) = &previous {
+        p.end.notify_one();
+    }
+    let release = |instances: &Instances| {
+        if let Some(n) = &instance {
+            let mut m = instances.lock().unwrap_or_else(|e| e.into_inner());
+            if m.get(n).is_some_and(|r| Arc::ptr_eq(r, &own)) {
+                m.remove(n);
+            }
+        }
     };
     let Some(id) = E::reply_id(&reply) else {
+        release(&book.instances);
         // An instantaneous command: done at its edge.
         return (
             GoalEndStatus::Succeeded,
             binding.result_of(goal, None, &handle.snapshot(), CommandState::Done, None),
         );
     };
-    goals
+    book.goals
         .lock()
         .unwrap_or_else(|e| e.into_inner())
         .insert(goal_id, id);
@@ -916,6 +977,7 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     let end = loop {
         tokio::select! {
+            _ = own.end.notified() => break CommandState::Aborted,
             ev = events.recv() => match ev {
                 Some(ev) => {
                     state = ev.state;
@@ -941,11 +1003,22 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
             }
         }
     };
+    release(&book.instances);
     // Let the snapshot catch up with the final cycle before building the result.
-    let result = binding.result_of(goal, Some(id), &handle.snapshot(), end, None);
+    let retriggered =
+        end == CommandState::Aborted && own.marked.load(std::sync::atomic::Ordering::SeqCst);
+    let reason = Rejection::new(ErrorId::NONE, "retriggered");
+    let result = binding.result_of(
+        goal,
+        Some(id),
+        &handle.snapshot(),
+        end,
+        retriggered.then_some(&reason),
+    );
     // A goal whose cancel was accepted ends CANCELED (taken over by the halt, or Done: a jog
     // released by the cancel), unless it failed: the error id then comes with ABORTED.
-    let was_canceled = canceled
+    let was_canceled = book
+        .canceled
         .lock()
         .unwrap_or_else(|e| e.into_inner())
         .remove(&goal_id);
