@@ -13,15 +13,16 @@
 //! * §9 start-up (INIT_STATE for `nr_cycles_chk_mc_runs` cycles, orders → 4013) and §10
 //!   versioning (HLI congruence, mismatch → 4904 at every FB).
 //! * §12.2 raw FB layer ([`raw`]): FB_IDLE/ACTIVE/ERROR, re-trigger with the same order
-//!   number, the per-axis acknowledgement queue with clogging (4906).
+//!   number, the per-axis (per-group for Part 4 FBs) acknowledgement queue with clogging
+//!   (4906).
 //!
 //! * §11 R-SYS-1: enabled software limits of linear axes are travel limits, monitored every
 //!   cycle: crossing one → MC error 91001 (reaction class 2: braking with `a_limit`);
 //!   R-SYS-2: on modulo axes a discrete motion started while moving positions on its target
 //!   modulo after braking (linear axes travel back, as the planner does anyway).
 //!
-//! Not modelled: `msgs_interface_hash` of R-VER-1 (ROS layer), Part 4 FBs in the raw layer,
-//! the unused globals of §2.3 (accepted in the config). A feed hold (R-SAF-5) is an effective
+//! Not modelled: `msgs_interface_hash` of R-VER-1 (ROS layer), the unused globals of §2.3
+//! (accepted in the config). A feed hold (R-SAF-5) is an effective
 //! override of 0 (path-true for groups); overrides written during the hold apply after it.
 
 mod hooks;

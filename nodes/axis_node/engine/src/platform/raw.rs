@@ -8,6 +8,10 @@
 //! an acknowledgement nobody consumes blocks all later ones of that axis ("clogging"); after
 //! more than 2 cycles at the head, warning 4906 is recorded. Done/CommandAborted/Error are
 //! latched until Execute falls (R-HS-2).
+//!
+//! Part 4 group FBs (`AxisCommand::Group`) work the same way on their group's channel: one
+//! acknowledgement queue per group (after the axes' queues), the channel's order slot of
+//! R-HS-3/R-HS-4, order numbers, clogging with the group's name in the warning.
 
 use super::ids::*;
 use crate::command::{AxisCommand, AxisReply};
@@ -86,7 +90,7 @@ pub enum AckKind {
 pub struct RawWarning {
     /// Cycle of detection.
     pub cycle: u64,
-    /// Axis name.
+    /// Axis name (the group's name for a group FB's channel).
     pub axis: String,
     /// Warning id (4906).
     pub id: ErrorId,
@@ -140,10 +144,11 @@ impl AxisEngine {
         calls: &[FbCall],
         events: &mut Vec<CommandEvent>,
     ) -> Vec<FbOut> {
-        let n_axes = self.axes.len();
-        if self.raw.acks.len() != n_axes {
-            self.raw.acks = vec![VecDeque::new(); n_axes];
-            self.raw.clog_warned = vec![None; n_axes];
+        // Acknowledgement queues: the axes, then the groups' channels.
+        let n_slots = self.axes.len() + self.groups.list.len();
+        if self.raw.acks.len() != n_slots {
+            self.raw.acks = vec![VecDeque::new(); n_slots];
+            self.raw.clog_warned = vec![None; n_slots];
         }
         let mut outs = Vec::with_capacity(calls.len());
         for call in calls {
@@ -153,14 +158,19 @@ impl AxisEngine {
         // what the cycle itself produces.
         let mut pre = std::mem::take(&mut self.fbs.events);
         let mut evs = Vec::new();
+        let mut accepted = std::mem::take(&mut self.raw.accepted);
+        // An order overwritten in its own cycle (MC_Stop / MC_GroupStop, R-HS-4) is
+        // acknowledged ACCEPTED before its ABORTED.
+        for e in &pre {
+            let owner = self.raw.owner_of.get(&e.id).copied();
+            if let Some(p) = owner.and_then(|k| accepted.iter().position(|a| a.0 == k)) {
+                let a = accepted.remove(p);
+                self.raw_accepted(a);
+            }
+        }
         self.raw_post_events(&mut pre, events);
-        for (inst, axis, order_id) in std::mem::take(&mut self.raw.accepted) {
-            self.raw.acks[axis].push_back(Ack {
-                owner: inst,
-                kind: AckKind::Accepted,
-                posted: self.raw.cycle,
-                order_id,
-            });
+        for a in accepted {
+            self.raw_accepted(a);
         }
         Engine::step(self, tick, &mut evs);
         self.raw_post_events(&mut evs, events);
@@ -187,14 +197,14 @@ impl AxisEngine {
             }
         }
         // Clog watchdog: the same acknowledgement at the head for more than 2 cycles.
-        for ax in 0..n_axes {
+        for ax in 0..n_slots {
             if let Some(h) = self.raw.acks[ax].front().copied() {
                 let key = Some((h.owner, h.order_id));
                 if self.raw.cycle > h.posted + 2 && self.raw.clog_warned[ax] != key {
                     self.raw.clog_warned[ax] = key;
                     self.raw.warnings.push(RawWarning {
                         cycle: self.raw.cycle,
-                        axis: self.axes[ax].name.clone(),
+                        axis: self.raw_slot_name(ax),
                         id: ERR_SIM_HLI_ACK_CLOG,
                         order_id: h.order_id,
                     });
@@ -203,6 +213,16 @@ impl AxisEngine {
         }
         self.raw.cycle += 1;
         outs
+    }
+
+    /// Posts the ACCEPTED acknowledgement of an order placed in this cycle.
+    fn raw_accepted(&mut self, (inst, axis, order_id): (usize, usize, u32)) {
+        self.raw.acks[axis].push_back(Ack {
+            owner: inst,
+            kind: AckKind::Accepted,
+            posted: self.raw.cycle,
+            order_id,
+        });
     }
 
     /// Warnings of the raw layer so far (4906).
@@ -247,7 +267,7 @@ impl AxisEngine {
                 k
             }
         };
-        let axis = call.fb.axis().and_then(|n| self.index.get(n).copied());
+        let axis = self.raw_slot(&call.fb);
         // Consume this instance's acknowledgements at the head of its axis' queue.
         let qa = self.raw.instances[k].axis;
         if self.raw.instances[k].state == FbState::Active {
@@ -305,7 +325,12 @@ impl AxisEngine {
             i.out.command_aborted = false;
             i.out.error = false;
             i.out.error_id = ErrorId::NONE;
+            // The MC sees the level too (MC_Stop / MC_GroupStop release the axis or group).
+            if let Some(id) = i.engine.last().copied() {
+                let _ = self.dispatch(AxisCommand::SetExecute { id, execute: false });
+            }
         }
+        let i = &mut self.raw.instances[k];
         // FB_RETRY: a pending order is tried again in this call (R-HS-3 with MAX_RETRIALS).
         if !rising {
             if let Some((fb, left)) = i.retry.take() {
@@ -354,6 +379,26 @@ impl AxisEngine {
     }
 
     /// The order attempt failed: FB-level error (nothing sent, §4.2).
+    /// The acknowledgement queue of an FB call: its axis, or its group's channel.
+    fn raw_slot(&self, fb: &AxisCommand) -> Option<usize> {
+        match fb {
+            AxisCommand::Group(g) => self
+                .groups
+                .index
+                .get(g.group())
+                .map(|&i| self.axes.len() + i),
+            _ => fb.axis().and_then(|n| self.index.get(n).copied()),
+        }
+    }
+
+    /// The axis or group name of an acknowledgement queue.
+    fn raw_slot_name(&self, slot: usize) -> String {
+        match self.axes.get(slot) {
+            Some(a) => a.name.clone(),
+            None => self.groups.list[slot - self.axes.len()].name.clone(),
+        }
+    }
+
     fn raw_error(&mut self, k: usize, state: FbState, id: ErrorId) {
         let i = &mut self.raw.instances[k];
         i.out.error = true;
