@@ -50,7 +50,15 @@ fn main() {
     let mut sources: Vec<(String, PathBuf)> = vec![(OWN_PACKAGE.to_string(), root.clone())];
     sources.extend(package_dirs(&root.join("ros_deps")));
     let packages = load_packages(&sources, &[]);
-    std::fs::write(out.join("interfaces.rs"), generate_rust(&packages)).expect("write rs");
+    let mut rs = generate_rust(&packages);
+    let _ = writeln!(
+        rs,
+        "/// Hash of this package's interface files (FNV-1a over their sorted paths and texts):\n\
+         /// `msgs_interface_hash` of plcopen_platform.md R-VER-1, compared by raw-layer requests.\n\
+         pub const INTERFACE_HASH: u32 = 0x{:08X};",
+        interface_hash(&root)
+    );
+    std::fs::write(out.join("interfaces.rs"), rs).expect("write rs");
     std::fs::write(out.join("interfaces.json"), describe(&packages)).expect("write json");
 
     // Test-only interfaces (tests/interfaces/<pkg>/...), included by the integration tests as
@@ -73,6 +81,29 @@ fn main() {
     }
     std::fs::write(out.join("test_interfaces.rs"), rs).expect("write test rs");
     std::fs::write(out.join("test_interfaces.json"), describe(&tests)).expect("write test json");
+}
+
+/// FNV-1a (32 bit) over the relative paths and contents of `msg/`, `srv/` and `action/`.
+fn interface_hash(root: &Path) -> u32 {
+    let mut files: Vec<PathBuf> = ["msg", "srv", "action"]
+        .iter()
+        .filter_map(|k| std::fs::read_dir(root.join(k)).ok())
+        .flat_map(|d| d.filter_map(|e| e.ok().map(|e| e.path())))
+        .collect();
+    files.sort();
+    let mut h: u32 = 0x811C_9DC5;
+    for f in files {
+        let rel = f
+            .strip_prefix(root)
+            .unwrap_or(&f)
+            .to_string_lossy()
+            .into_owned();
+        let text = std::fs::read(&f).unwrap_or_default();
+        for b in rel.bytes().chain(text) {
+            h = (h ^ u32::from(b)).wrapping_mul(0x0100_0193);
+        }
+    }
+    h
 }
 
 /// `(package name, directory)` for every sub-directory of `dir` (none if it does not exist).

@@ -13,15 +13,16 @@ use motion_msgs::action::{
     MoveLinearAbsolute, MoveLinearAbsoluteFeedback, MoveLinearAbsoluteGoal,
     MoveLinearAbsoluteResult,
 };
-use motion_msgs::msg::{AxesGroupState, AxisEvent, CommandStatus, PlatformStatus};
+use motion_msgs::msg::{AxesGroupState, AxisEvent, CommandStatus, FbCall, FbOut, PlatformStatus};
 use motion_msgs::srv::{
     AxesGroupAddAxis, AxesGroupAddAxisRequest, AxesGroupAddAxisResponse, AxesGroupCommand,
     AxesGroupCommandRequest, AxesGroupCommandResponse, AxesGroupReadActual,
     AxesGroupReadActualRequest, AxesGroupReadActualResponse, AxesGroupReadStatus,
     AxesGroupReadStatusRequest, AxesGroupReadStatusResponse, AxesGroupStop, AxesGroupStopRequest,
-    AxesGroupStopResponse, GetOutputs, GetOutputsRequest, GetOutputsResponse,
-    MoveLinearRelativeRequest, MoveLinearRelativeResponse, PlatformInjectMcMessage,
-    PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse, Power, PowerRequest,
+    AxesGroupStopResponse, FbCycle, FbCycleRequest, FbCycleResponse, GetOutputs, GetOutputsRequest,
+    GetOutputsResponse, MoveLinearRelativeRequest, MoveLinearRelativeResponse,
+    PlatformInjectMcMessage, PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse,
+    PlatformVersions, PlatformVersionsRequest, PlatformVersionsResponse, Power, PowerRequest,
     PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode,
     SafetyOperatingModeRequest, SafetyOperatingModeResponse,
 };
@@ -563,6 +564,115 @@ async fn safety(mapping: ServiceMapping) {
     assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
     assert!((result.positions[0] - 10.0).abs() < 1e-9, "{result:?}");
     assert!((result.positions[1] - 20.0).abs() < 1e-9, "{result:?}");
+
+    // The raw FB layer over ROS (~/fb/cycle, §12.2): a wrong interface hash is refused with
+    // 4904; with the node's hash (from ~/platform/versions) an MC_MoveRelative instance on x
+    // is Busy at its edge, Active after ACCEPTED, Done at the target, Done held while Execute
+    // stays TRUE; each request runs a cycle.
+    let versions = c
+        .client::<PlatformVersionsRequest, PlatformVersionsResponse>(
+            "/axis_node/platform/versions",
+            PlatformVersions::service_type_name(),
+        )
+        .await;
+    let v = within(
+        5.0,
+        "versions",
+        versions.async_call_service(PlatformVersionsRequest::default()),
+    )
+    .await
+    .unwrap();
+    assert_eq!(v.msgs_interface_hash, motion_msgs::INTERFACE_HASH);
+    let fbc = c
+        .client::<FbCycleRequest, FbCycleResponse>(
+            "/axis_node/fb/cycle",
+            FbCycle::service_type_name(),
+        )
+        .await;
+    let mv = axis_engine::AxisCommand::MoveRelative(axis_engine::MoveRelative {
+        axis: "x".into(),
+        distance: 5.0,
+        velocity: 100.0,
+        acceleration: 0.0,
+        deceleration: 0.0,
+        jerk: 0.0,
+        buffer_mode: axis_engine::BufferMode::Aborting,
+        options: Default::default(),
+    });
+    let req = |hash: u32, execute: bool| FbCycleRequest {
+        interface_hash: hash,
+        calls: vec![FbCall {
+            instance: "raw_mv".into(),
+            execute,
+            fb: serde_json::to_string(&mv).unwrap(),
+        }],
+    };
+    let r = within(
+        5.0,
+        "fb/cycle bad hash",
+        fbc.async_call_service(req(1, true)),
+    )
+    .await
+    .unwrap();
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, 4904, "{}", r.message);
+    {
+        let r = within(
+            5.0,
+            "fb/cycle 1",
+            fbc.async_call_service(req(v.msgs_interface_hash, true)),
+        )
+        .await
+        .unwrap();
+        assert!(r.accepted, "{}", r.message);
+        let o = &r.outputs[0];
+        assert!(o.busy && !o.active && o.order_id > 0, "{o:?}");
+        assert_eq!(o.fb_state, FbOut::FB_ACTIVE);
+    }
+    let mut last_cycle = 0;
+    let mut n = 0;
+    loop {
+        let r = within(
+            5.0,
+            "fb/cycle",
+            fbc.async_call_service(req(v.msgs_interface_hash, true)),
+        )
+        .await
+        .unwrap();
+        assert!(r.accepted, "{}", r.message);
+        if last_cycle > 0 {
+            // (The test's driver steps the lockstep node too.)
+            assert!(r.cycle > last_cycle, "each request runs a cycle");
+        }
+        last_cycle = r.cycle;
+        if n == 0 {
+            assert!(r.outputs[0].active, "{:?}", r.outputs[0]);
+        }
+        if r.outputs[0].done {
+            // x stood at 10 after the group move in T1.
+            assert_eq!(r.axes[0].name, "x");
+            assert!((r.axes[0].set_pos - 15.0).abs() < 1e-9, "{:?}", r.axes[0]);
+            break;
+        }
+        n += 1;
+        assert!(n < 3000, "raw move not done");
+    }
+    let r = within(
+        5.0,
+        "fb/cycle held",
+        fbc.async_call_service(req(v.msgs_interface_hash, true)),
+    )
+    .await
+    .unwrap();
+    assert!(r.outputs[0].done, "Done held while Execute is TRUE");
+    let r = within(
+        5.0,
+        "fb/cycle falling",
+        fbc.async_call_service(req(v.msgs_interface_hash, false)),
+    )
+    .await
+    .unwrap();
+    assert!(!r.outputs[0].done && !r.outputs[0].busy);
 
     // An MC warning and an MC error injected on x arrive on ~/events, after the safety event
     // of T1 and the acknowledgements of the move.

@@ -25,6 +25,7 @@ mod convert;
 mod engine_config;
 pub mod events;
 mod extensions;
+mod fb_cycle;
 mod fbs;
 mod groups;
 mod jog;
@@ -300,5 +301,6 @@ fn setup(
     groups::register(shell, &groups)?;
     platform::register(shell)?;
     events::register(shell)?;
+    fb_cycle::register(shell)?;
     Ok(())
 }

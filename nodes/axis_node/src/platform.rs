@@ -177,6 +177,7 @@ fn respond_versions(o: crate::services::Outcome) -> PlatformVersionsResponse {
             mcp_plcopen_p1: v.mcp_plcopen_p1,
             mcp_plcopen_p4: v.mcp_plcopen_p4,
             node_version: v.node_version,
+            msgs_interface_hash: motion_msgs::INTERFACE_HASH,
             ..base
         },
         None => base,

@@ -89,7 +89,14 @@ enum Request<E: Engine> {
         id: CmdId,
         reply: oneshot::Sender<Result<(), Rejection>>,
     },
+    /// A custom cycle: runs instead of the next plain `step` (see
+    /// [`ControllerHandle::cycle_with`]).
+    Cycle(CustomStep<E>),
 }
+
+/// A cycle run by the caller's closure instead of `Engine::step`: it gets the engine, the
+/// cycle's tick and the event vector, and must advance the engine by exactly that tick.
+type CustomStep<E> = Box<dyn FnOnce(&mut E, Tick, &mut Vec<CommandEvent>) + Send>;
 
 /// A read-only query: runs on the cycle thread with the engine between two cycles.
 type Query<E> = Box<dyn FnOnce(&E) + Send>;
@@ -217,6 +224,7 @@ impl<E: Engine> Controller<E> {
             stop: stop.clone(),
             wake: wake.clone(),
             free_run: false,
+            custom: None,
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
@@ -372,6 +380,27 @@ impl<E: Engine> ControllerHandle<E> {
         rx.await.map_err(|_| not_running())
     }
 
+    /// Runs the next cycle with `f` instead of `Engine::step` (e.g. a PLC cycle that calls
+    /// FB instances and then steps the engine, plcopen_platform.md §12.2): commands queued
+    /// before are applied first; `f` must advance the engine by the tick it gets; events it
+    /// appends are routed as usual. Returns `f`'s result after that cycle. In lockstep mode
+    /// the request itself runs that one cycle.
+    pub async fn cycle_with<R, F>(&self, f: F) -> Result<R, Rejection>
+    where
+        F: FnOnce(&mut E, Tick, &mut Vec<CommandEvent>) -> R + Send + 'static,
+        R: Send + 'static,
+    {
+        let (tx, rx) = oneshot::channel();
+        self.push(Request::Cycle(Box::new(move |e, t, ev| {
+            let _ = tx.send(f(e, t, ev));
+        })))?;
+        if self.config.mode == ClockMode::Lockstep {
+            let (reply, _done) = oneshot::channel();
+            self.push_control(Control::Step { n: 1, reply })?;
+        }
+        rx.await.map_err(|_| not_running())
+    }
+
     /// Lockstep: runs `n` cycles and returns the cycle count afterwards.
     /// In real-time mode the request is rejected.
     pub async fn step(&self, n: u64) -> Result<u64, Rejection> {
@@ -463,6 +492,8 @@ struct CycleThread<E: Engine> {
     stop: Arc<AtomicBool>,
     wake: Arc<Wake>,
     free_run: bool,
+    /// A custom cycle waiting for the next cycle.
+    custom: Option<CustomStep<E>>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -570,16 +601,25 @@ impl<E: Engine> CycleThread<E> {
         }
     }
 
-    /// One cycle: commands in arrival order, then `step`, then events and snapshot.
+    /// One cycle: commands in arrival order, then `step` (or a custom cycle that came with
+    /// them; commands behind it wait for the next cycle), then events and snapshot.
     fn cycle_once(&mut self) {
-        while let Ok(req) = self.rx.try_recv() {
-            self.apply(req);
+        let mut custom = self.custom.take();
+        while custom.is_none() {
+            match self.rx.try_recv() {
+                Ok(Request::Cycle(f)) => custom = Some(f),
+                Ok(req) => self.apply(req),
+                Err(_) => break,
+            }
         }
         let tick = Tick {
             index: self.cycle,
             dt: self.config.period,
         };
-        self.engine.step(tick, &mut self.events);
+        match custom {
+            Some(f) => f(&mut self.engine, tick, &mut self.events),
+            None => self.engine.step(tick, &mut self.events),
+        }
         self.cycle += 1;
         // A command that ends is reported with the state it ended in: results built from the
         // snapshot (action results) must not see an older cycle.
@@ -626,6 +666,8 @@ impl<E: Engine> CycleThread<E> {
             Request::Cancel { id, reply } => {
                 let _ = reply.send(self.engine.cancel(id));
             }
+            // (cycle_once takes custom cycles before they get here.)
+            Request::Cycle(f) => self.custom = Some(f),
         }
     }
 

@@ -330,3 +330,44 @@ fn queries_run_in_real_time_between_cycles_and_a_full_queue_rejects() {
         drop(ctl);
     });
 }
+
+/// `cycle_with`: a custom cycle replaces exactly one `step`, after the commands queued before
+/// it; in lockstep it runs that cycle itself; its events are routed like a step's.
+#[test]
+fn a_custom_cycle_replaces_one_step_after_the_commands_before_it() {
+    rt().block_on(async {
+        let (ctl, mut events) = Controller::spawn(counter(), lockstep(0.001, 8), |r| *r).unwrap();
+        let h = ctl.handle();
+        let set = h.submit(Cmd::SetVel(100.0), None).unwrap();
+        // The closure sees the velocity set before it, steps twice as far, reports an event.
+        let (pos, tick) = h
+            .cycle_with(|e: &mut Counter, t: Tick, ev: &mut Vec<CommandEvent>| {
+                let v = e.vel;
+                e.step(
+                    Tick {
+                        index: t.index,
+                        dt: 2.0 * t.dt,
+                    },
+                    ev,
+                );
+                ev.push(CommandEvent {
+                    id: CmdId(77),
+                    state: CommandState::Done,
+                });
+                (e.pos, (t.index, v))
+            })
+            .await
+            .unwrap();
+        assert!(set.await.unwrap().is_ok());
+        assert_eq!(tick, (0, 100.0));
+        assert!((pos - 0.2).abs() < 1e-12, "{pos}");
+        // Exactly one cycle ran.
+        assert_eq!(h.step(0).await.unwrap(), 1);
+        assert_eq!(events.recv().await.unwrap().id, CmdId(77));
+        // A normal step afterwards.
+        h.step(1).await.unwrap();
+        assert!((h.snapshot().state.0 - 0.3).abs() < 1e-12);
+        let engine = ctl.shutdown().unwrap();
+        assert_eq!(engine.dts, vec![0.002, 0.001]);
+    });
+}

@@ -2526,6 +2526,7 @@ impl Engine for AxisEngine {
         let from = events.len();
         events.append(&mut self.fbs.events);
         self.platform_map_events(&mut events[from..]);
+        self.raw_route(events, from);
     }
 
     fn snapshot(&self) -> AxisSnapshot {

@@ -230,27 +230,53 @@ impl AxisEngine {
         &self.raw.warnings
     }
 
+    /// After a step (with or without [`AxisEngine::fb_cycle`], e.g. cycles a free-running
+    /// node runs between `~/fb/cycle` requests): the events of raw-owned commands from
+    /// `events[from..]` become acknowledgements in their queues. No allocation.
+    pub(crate) fn raw_route(&mut self, events: &mut Vec<CommandEvent>, from: usize) {
+        if self.raw.owner_of.is_empty() {
+            return;
+        }
+        let mut k = from;
+        while k < events.len() {
+            if self.raw.owner_of.contains_key(&events[k].id) {
+                let e = events.remove(k);
+                self.raw_ack(e);
+            } else {
+                k += 1;
+            }
+        }
+    }
+
+    /// The acknowledgement of a raw-owned command's event (final states only).
+    fn raw_ack(&mut self, e: CommandEvent) {
+        let Some(&k) = self.raw.owner_of.get(&e.id) else {
+            return;
+        };
+        let kind = match e.state {
+            CommandState::Done => AckKind::Done,
+            CommandState::Aborted => AckKind::Aborted,
+            CommandState::Error(id) => AckKind::Error(self.platform_error_id(e.id, id)),
+            // The axis engine never ends an instance without an output.
+            CommandState::Busy | CommandState::Active | CommandState::Ended => return,
+        };
+        let i = &self.raw.instances[k];
+        let (axis, order_id) = (i.axis, i.order_id);
+        self.raw.acks[axis].push_back(Ack {
+            owner: k,
+            kind,
+            posted: self.raw.cycle,
+            order_id,
+        });
+    }
+
     fn raw_post_events(&mut self, evs: &mut Vec<CommandEvent>, out: &mut Vec<CommandEvent>) {
         for e in evs.drain(..) {
-            let Some(&k) = self.raw.owner_of.get(&e.id) else {
+            if self.raw.owner_of.contains_key(&e.id) {
+                self.raw_ack(e);
+            } else {
                 out.push(e);
-                continue;
-            };
-            let kind = match e.state {
-                CommandState::Done => AckKind::Done,
-                CommandState::Aborted => AckKind::Aborted,
-                CommandState::Error(id) => AckKind::Error(self.platform_error_id(e.id, id)),
-                // The axis engine never ends an instance without an output.
-                CommandState::Busy | CommandState::Active | CommandState::Ended => continue,
-            };
-            let i = &self.raw.instances[k];
-            let (axis, order_id) = (i.axis, i.order_id);
-            self.raw.acks[axis].push_back(Ack {
-                owner: k,
-                kind,
-                posted: self.raw.cycle,
-                order_id,
-            });
+            }
         }
     }
 
