@@ -24,7 +24,8 @@ use motion_msgs::srv::{
     PlatformInjectMcMessage, PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse,
     PlatformVersions, PlatformVersionsRequest, PlatformVersionsResponse, Power, PowerRequest,
     PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode,
-    SafetyOperatingModeRequest, SafetyOperatingModeResponse,
+    SafetyOperatingModeRequest, SafetyOperatingModeResponse, SubmitBatch, SubmitBatchRequest,
+    SubmitBatchResponse,
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, ServiceMapping};
@@ -673,6 +674,53 @@ async fn safety(mapping: ServiceMapping) {
     .await
     .unwrap();
     assert!(!r.outputs[0].done && !r.outputs[0].busy);
+
+    // ~/submit_batch (§12.1): two orders on y in one cycle: the second finds the order slot
+    // used (4, R-HS-3); a bad order text refuses the whole batch.
+    let sb = c
+        .client::<SubmitBatchRequest, SubmitBatchResponse>(
+            "/axis_node/submit_batch",
+            SubmitBatch::service_type_name(),
+        )
+        .await;
+    let on_y = |distance: f64| {
+        serde_json::to_string(&axis_engine::AxisCommand::MoveRelative(
+            axis_engine::MoveRelative {
+                axis: "y".into(),
+                distance,
+                ..match &mv {
+                    axis_engine::AxisCommand::MoveRelative(m) => m.clone(),
+                    _ => unreachable!(),
+                }
+            },
+        ))
+        .unwrap()
+    };
+    let r = within(
+        5.0,
+        "submit_batch",
+        sb.async_call_service(SubmitBatchRequest {
+            orders: vec![on_y(1.0), on_y(2.0)],
+        }),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "{}", r.message);
+    assert_eq!(r.order_accepted, vec![true, false]);
+    assert!(r.command_ids[0] > 0);
+    assert_eq!(r.error_ids[1], 4, "{:?}", r.messages);
+    let r = within(
+        5.0,
+        "submit_batch bad",
+        sb.async_call_service(SubmitBatchRequest {
+            orders: vec![on_y(1.0), "{\"Fly\": {}}".into()],
+        }),
+    )
+    .await
+    .unwrap();
+    assert!(!r.accepted && r.order_accepted.is_empty());
+    assert_eq!(r.error_id, 0x7F06, "{}", r.message);
+    assert!(r.message.contains("orders[1]"), "{}", r.message);
 
     // An MC warning and an MC error injected on x arrive on ~/events, after the safety event
     // of T1 and the acknowledgements of the move.

@@ -1,4 +1,5 @@
-//! `~/fb/cycle` (plcopen_platform.md §12.2): the raw FB layer over ROS. One request = one PLC
+//! `~/fb/cycle` (plcopen_platform.md §12.2) and `~/submit_batch` (§12.1), both one cycle run
+//! by the runtime's custom cycle. `~/fb/cycle` is the raw FB layer over ROS. One request = one PLC
 //! cycle: the listed FB instances are called in order with their inputs, then the MC runs the
 //! cycle (the runtime's custom cycle, so it replaces exactly one plain cycle; in lockstep mode
 //! the request runs it). The request carries `msgs_interface_hash` (R-VER-1): another value
@@ -11,8 +12,41 @@ use axis_engine::platform::raw::{FbCall as RawCall, FbOut as RawOut, FbState};
 use axis_engine::{AxisCommand, AxisEngine};
 use motion_core::{ErrorId, Rejection};
 use motion_msgs::msg::FbOut;
-use motion_msgs::srv::{FbCycle, FbCycleRequest, FbCycleResponse};
-use motion_runtime::{ControllerHandle, NodeShell, ShellError};
+use motion_msgs::srv::{
+    FbCycle, FbCycleRequest, FbCycleResponse, SubmitBatch, SubmitBatchRequest, SubmitBatchResponse,
+};
+use motion_runtime::{CommandLabel, ControllerHandle, NodeShell, ShellError};
+use std::sync::Arc;
+
+/// An FB call from its JSON text (the engine's serde form); `what` names it in errors.
+fn fb_from_json(text: &str, what: &str) -> Result<AxisCommand, Rejection> {
+    serde_json::from_str(text).map_err(|e| {
+        Rejection::new(
+            ErrorId::VALUE_OUT_OF_RANGE,
+            format!("{what}: not an FB call: {e}"),
+        )
+    })
+}
+
+/// `~/command_status` label of a batch order: its axis or group and the FB in snake_case.
+fn batch_label(text: &str, cmd: &AxisCommand) -> CommandLabel {
+    let variant = serde_json::from_str::<serde_json::Value>(text)
+        .ok()
+        .and_then(|v| v.as_object().and_then(|o| o.keys().next().cloned()))
+        .unwrap_or_default();
+    let mut command = String::new();
+    for (k, ch) in variant.chars().enumerate() {
+        if ch.is_uppercase() && k > 0 {
+            command.push('_');
+        }
+        command.extend(ch.to_lowercase());
+    }
+    let object = match cmd {
+        AxisCommand::Group(g) => g.group().to_string(),
+        c => c.axis().unwrap_or_default().to_string(),
+    };
+    CommandLabel { object, command }
+}
 
 /// The raw calls of a request, or the first bad one.
 fn decode(req: &FbCycleRequest) -> Result<Vec<RawCall>, Rejection> {
@@ -30,12 +64,7 @@ fn decode(req: &FbCycleRequest) -> Result<Vec<RawCall>, Rejection> {
         .iter()
         .enumerate()
         .map(|(k, c)| {
-            let fb: AxisCommand = serde_json::from_str(&c.fb).map_err(|e| {
-                Rejection::new(
-                    ErrorId::VALUE_OUT_OF_RANGE,
-                    format!("calls[{k}] ({}): fb is not an FB call: {e}", c.instance),
-                )
-            })?;
+            let fb = fb_from_json(&c.fb, &format!("calls[{k}] ({}): fb", c.instance))?;
             if c.instance.is_empty() {
                 return Err(Rejection::new(
                     ErrorId::VALUE_OUT_OF_RANGE,
@@ -106,7 +135,83 @@ async fn answer(handle: &ControllerHandle<AxisEngine>, req: FbCycleRequest) -> F
     }
 }
 
-/// Registers `~/fb/cycle`.
+async fn batch(
+    handle: &ControllerHandle<AxisEngine>,
+    labels: Arc<motion_runtime::shell::CommandRegistry>,
+    req: SubmitBatchRequest,
+) -> SubmitBatchResponse {
+    let decoded: Result<Vec<(AxisCommand, CommandLabel)>, Rejection> = req
+        .orders
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let c = fb_from_json(t, &format!("orders[{k}]"))?;
+            let l = batch_label(t, &c);
+            Ok((c, l))
+        })
+        .collect();
+    let orders = match decoded {
+        Ok(o) => o,
+        Err(r) => {
+            return SubmitBatchResponse {
+                accepted: false,
+                error_id: r.error_id.0,
+                message: r.message,
+                ..SubmitBatchResponse::default()
+            }
+        }
+    };
+    let ran = handle
+        .cycle_with(move |e: &mut AxisEngine, tick, events| {
+            use motion_core::Engine;
+            let results: Vec<Result<Option<motion_core::CmdId>, Rejection>> = orders
+                .into_iter()
+                .map(|(cmd, label)| {
+                    let r = e.command(cmd)?;
+                    let id = AxisEngine::reply_id(&r);
+                    if let Some(id) = id {
+                        labels.insert(id, label);
+                    }
+                    Ok(id)
+                })
+                .collect();
+            e.step(tick, events);
+            results
+        })
+        .await;
+    match ran {
+        Ok(results) => {
+            let mut r = SubmitBatchResponse {
+                accepted: true,
+                ..SubmitBatchResponse::default()
+            };
+            for x in results {
+                r.order_accepted.push(x.is_ok());
+                match x {
+                    Ok(id) => {
+                        r.command_ids.push(id.map_or(0, |i| i.0));
+                        r.error_ids.push(0);
+                        r.messages.push(String::new());
+                    }
+                    Err(e) => {
+                        r.command_ids.push(0);
+                        r.error_ids.push(e.error_id.0);
+                        r.messages.push(e.message);
+                    }
+                }
+            }
+            r
+        }
+        Err(e) => SubmitBatchResponse {
+            accepted: false,
+            error_id: e.error_id.0,
+            message: e.message,
+            ..SubmitBatchResponse::default()
+        },
+    }
+}
+
+/// Registers `~/fb/cycle` and `~/submit_batch`.
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     let handle = shell.handle.clone();
     shell.service::<FbCycleRequest, FbCycleResponse, _, _>(
@@ -115,6 +220,16 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
         move |req| {
             let handle = handle.clone();
             async move { answer(&handle, req).await }
+        },
+    )?;
+    let handle = shell.handle.clone();
+    let labels = shell.registry.clone();
+    shell.service::<SubmitBatchRequest, SubmitBatchResponse, _, _>(
+        "submit_batch",
+        SubmitBatch::service_type_name(),
+        move |req| {
+            let (handle, labels) = (handle.clone(), labels.clone());
+            async move { batch(&handle, labels, req).await }
         },
     )
 }
