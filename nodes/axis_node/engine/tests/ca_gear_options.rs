@@ -464,3 +464,84 @@ fn dynamics_reference_system_couples_on_the_offset_path() {
     }
     assert!(straight && curve);
 }
+
+/// Early with a master that changes its velocity during the sync phase (§5.5.3: Early works
+/// "on any master"; the restrictions of §5.5.2 refer to the master's current velocity): the
+/// master ramps from 500 to 900 mm/s at 300 mm/s² right after the command. Undershoot
+/// forbidden: once the slave has reached the master's velocity it never falls below the
+/// master's current velocity; overshoot forbidden (slave ahead of s*): never faster than the
+/// master. Both synchronise, within the sync dynamics.
+#[test]
+fn restrictions_follow_an_accelerating_master() {
+    let speed_up = |r: &mut CaRig| {
+        r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
+            axis: "MA".into(),
+            velocity: 900.0,
+            acceleration: 300.0,
+            deceleration: 300.0,
+            jerk: 100000.0,
+            direction: axis_engine::Direction::Positive,
+            buffer_mode: axis_engine::BufferMode::Aborting,
+            options: Default::default(),
+        }))
+        .unwrap();
+    };
+    for (ssp, undershoot) in [(1400.0, true), (800.0, false)] {
+        let mut r = rig();
+        let id = r.ok(CaCommand::GearInPos(GearInPosCa {
+            forbid_master_velocity_undershoot: undershoot,
+            forbid_master_velocity_overshoot: !undershoot,
+            ..base(ssp, SyncStrategy::Early)
+        }));
+        speed_up(&mut r);
+        let mut reached = false;
+        let mut synced = None;
+        let mut prev_a = r.axis("S").acceleration;
+        for k in 1..=6000 {
+            r.step();
+            let o = r.e.ca_groups().gear_outputs(id).expect("coupling");
+            let a = r.axis("S");
+            let mv = r.e.status("MA").unwrap().set_velo;
+            if undershoot {
+                reached |= a.velocity >= mv - 1e-9;
+                if reached {
+                    assert!(
+                        a.velocity >= mv - 1e-6,
+                        "cycle {k}: slave {} < master {mv}",
+                        a.velocity
+                    );
+                }
+            } else {
+                assert!(
+                    a.velocity <= mv + 1e-6,
+                    "cycle {k}: slave {} > master {mv}",
+                    a.velocity
+                );
+            }
+            assert!(
+                a.acceleration.abs() <= 10000.0 * (1.0 + 1e-6),
+                "cycle {k}: {a:?}"
+            );
+            assert!(
+                (a.acceleration - prev_a).abs() / T <= 100000.0 * (1.0 + 1e-6),
+                "cycle {k}: jerk {} -> {} (master v {mv}, in_sync {}, start {})",
+                prev_a,
+                a.acceleration,
+                o.in_sync,
+                o.start_sync
+            );
+            prev_a = a.acceleration;
+            if o.in_sync {
+                synced = Some(k);
+                break;
+            }
+        }
+        assert!(synced.is_some(), "ssp {ssp}: never InSync");
+        assert!(coupled_error(&r, ssp).abs() < 1e-3, "ssp {ssp}");
+        let mv = r.e.status("MA").unwrap().set_velo;
+        assert!(
+            mv > 500.0,
+            "the master was still accelerating or faster: {mv}"
+        );
+    }
+}

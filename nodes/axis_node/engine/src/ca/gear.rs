@@ -483,8 +483,21 @@ fn early(
         if orient < 0.0 && lim.no_reversal {
             vmax = vmax.min(w);
         }
-        let e = free_step(rel, sgr, vmax, dy, Some(0.0), dt);
-        if e.x.abs() <= 1e-3 && e.v.abs() <= 1e-3 {
+        // The feed-forward r·m̈ comes on top of the relative acceleration: the relative
+        // frame keeps what is left of the limits (an accelerating master, §5.5.3).
+        let ff = (r * ma).abs();
+        let dyr = Dyn {
+            a: (dy.a - ff).max(dy.a * 1e-3),
+            d: (dy.d - ff).max(dy.d * 1e-3),
+            ..*dy
+        };
+        let e = free_step(rel, sgr, vmax, &dyr, Some(0.0), dt);
+        // InSync also needs the acceleration: taking over the coupled law must not jump by
+        // more than one cycle of jerk (an accelerating master, §5.5.3).
+        if e.x.abs() <= 1e-3
+            && e.v.abs() <= 1e-3
+            && (coupled.acc - s.acc).abs() <= dy.j * dt * (1.0 + 1e-9)
+        {
             gear.in_sync = true;
             return coupled;
         }
