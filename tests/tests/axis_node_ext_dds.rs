@@ -181,6 +181,7 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     let node = start_node(domain, mapping, &file);
     let driver = drive(&node, 5);
     let mut c = ClientNode::new(domain, "ext_client", mapping);
+    let s_state = c.subscribe::<AxisState>("/axis_node/axes/s/state", AxisState::type_name());
     let b = Base::new(&mut c).await;
     for ax in ["m", "s", "m2", "e"] {
         b.power_on(ax).await;
@@ -260,6 +261,20 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     assert_eq!(o.axis, "s");
     assert!((o.absolute_phase_shift - 8.0).abs() < 1e-9, "{o:?}");
     assert!((b.pos("s").await - b.pos("m").await - 8.0).abs() < 1e-6);
+    // AbsPhasingPos in the axis state (NcToPlc of the added functions).
+    within(10.0, "AbsPhasingPos 8 on ~/axes/s/state", async {
+        loop {
+            let (st, _) = s_state.async_take().await.unwrap();
+            if (st.abs_phasing_pos - 8.0).abs() < 1e-9 {
+                assert!(
+                    (st.drive_set_pos - st.set_pos).abs() < 1e-9,
+                    "no correction: {st:?}"
+                );
+                break;
+            }
+        }
+    })
+    .await;
     // Unknown slave: 0x7F01; NaN phase shift: 0x7F02; BufferMode 9: 0x7F03.
     let r = call(
         &abs,

@@ -35,6 +35,16 @@ pub fn axis_state(a: &AxisStatus, t: f64) -> AxisState {
         has_job: a.has_job,
         cmd_buffered: a.cmd_buffered,
         cmd_no: a.cmd_no,
+        abs_phasing_pos: a.ext.abs_phasing_pos,
+        act_pos_without_pos_correction: a.ext.act_pos_without_pos_correction,
+        position_correction: a.ext.position_correction,
+        drive_set_pos: a.ext.drive_set_pos,
+        ext_set_pos: a.ext.ext_set_pos,
+        ext_set_velo: a.ext.ext_set_velo,
+        ext_set_acc: a.ext.ext_set_acc,
+        ext_torque: a.ext.ext_torque,
+        encoder_increments: a.ext.encoder_increments,
+        control_loop_index: a.ext.control_loop_index,
     }
 }
 

@@ -1098,6 +1098,7 @@ impl Axis {
             raw_pos: self.set.pos - self.coord_offset,
             set_position_offset: self.set_position_offset,
             set_torque: self.set_torque,
+            ext: Default::default(),
         }
     }
 }

@@ -2545,6 +2545,7 @@ impl Engine for AxisEngine {
                 (0..self.axes.len())
                     .map(|i| {
                         let mut s = self.axis_status(i, master[i]);
+                        s.ext = self.ext_values(i);
                         if starting {
                             // INIT_STATE during start-up (§9).
                             s.motion_state = crate::state::MotionState::Undefined;

@@ -105,5 +105,5 @@ pub use engine::{AxisEngine, PowerOutputs};
 pub use group::{GroupCommand, GroupConfig, GroupReply, GroupState, GroupStatus};
 pub use handshake::{FbKind, FbOutputs};
 pub use platform::{EngineConfig, PlatformCommand, PlatformProfile};
-pub use snapshot::{AxisSnapshot, AxisStatus};
+pub use snapshot::{AxisSnapshot, AxisStatus, ExtValues};
 pub use state::MotionState;

@@ -136,6 +136,9 @@ pub struct AxisStatus {
     pub set_position_offset: f64,
     /// SetTorque (= ActTorque) \[%\] (MC_TorqueControl).
     pub set_torque: f64,
+    /// NcToPlc values of the added functions (phasing, position correction, external set
+    /// points, encoder, control loop).
+    pub ext: ExtValues,
 }
 
 impl AxisStatus {
@@ -158,6 +161,32 @@ impl AxisStatus {
     pub fn constant_velocity(&self) -> bool {
         self.bit(bits::CONSTANT_VELOCITY)
     }
+}
+
+/// NcToPlc values of the added functions of one axis (single_axis.md §4.7 and the phasing /
+/// external set-point FBs), the scalar part of `AxisEngine::ext_status`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ExtValues {
+    /// AbsPhasingPos: phasing offset φ \[u\].
+    pub abs_phasing_pos: f64,
+    /// ActPosWithoutPosCorrection \[u\].
+    pub act_pos_without_pos_correction: f64,
+    /// Total position correction (backlash + limiter + table) \[u\].
+    pub position_correction: f64,
+    /// Set position sent to the drive (SetPos − correction) \[u\].
+    pub drive_set_pos: f64,
+    /// ExtSetPos / ExtSetVelo / ExtSetAcc as last fed.
+    pub ext_set_pos: f64,
+    /// ExtSetVelo \[u/s\].
+    pub ext_set_velo: f64,
+    /// ExtSetAcc \[u/s²\].
+    pub ext_set_acc: f64,
+    /// ExtTorque (torque offset) \[%\].
+    pub ext_torque: f64,
+    /// Encoder counter (32 bit) at the actual position.
+    pub encoder_increments: u32,
+    /// ActiveControlLoopIndex.
+    pub control_loop_index: u16,
 }
 
 /// State of all axes, in configuration order.

@@ -280,30 +280,49 @@ impl AxisEngine {
         }
     }
 
-    /// Status of the added functions of one axis.
-    pub fn ext_status(&self, axis: &str) -> Option<ExtStatus> {
-        let &i = self.index.get(axis)?;
+    /// The scalar NcToPlc values of [`Self::ext_status`] for the snapshot.
+    pub(crate) fn ext_values(&self, i: usize) -> crate::snapshot::ExtValues {
         let a = &self.axes[i];
         let g = &a.ext.ext_gen;
         let corr = a.ext.x.correction();
         let (f, off) = (a.cfg.encoder_scaling_factor, a.cfg.encoder_offset);
-        Some(ExtStatus {
+        crate::snapshot::ExtValues {
             abs_phasing_pos: a.abs_phasing_pos(),
-            phasing_active: a.phasing_active(),
-            ext_set_point_gen_enabled: g.enabled,
+            act_pos_without_pos_correction: a.act_pos - corr,
+            position_correction: corr,
+            drive_set_pos: a.set.pos - corr,
             ext_set_pos: g.fed.pos,
             ext_set_velo: g.fed.vel,
             ext_set_acc: g.fed.acc,
-            ext_set_direction: g.direction,
             ext_torque: g.torque_offset,
-            drive_operation_mode: a.ext.x.drive_mode,
-            position_correction: corr,
-            act_pos_without_pos_correction: a.act_pos - corr,
-            drive_set_pos: a.set.pos - corr,
-            encoder_scaling_factor: f,
-            encoder_offset: off,
             encoder_increments: ((a.act_pos - off) / f).round().rem_euclid(4_294_967_296.0) as u32,
             control_loop_index: a.ext.x.control_loop_index,
+        }
+    }
+
+    /// Status of the added functions of one axis.
+    pub fn ext_status(&self, axis: &str) -> Option<ExtStatus> {
+        let &i = self.index.get(axis)?;
+        let v = self.ext_values(i);
+        let a = &self.axes[i];
+        let g = &a.ext.ext_gen;
+        Some(ExtStatus {
+            abs_phasing_pos: v.abs_phasing_pos,
+            phasing_active: a.phasing_active(),
+            ext_set_point_gen_enabled: g.enabled,
+            ext_set_pos: v.ext_set_pos,
+            ext_set_velo: v.ext_set_velo,
+            ext_set_acc: v.ext_set_acc,
+            ext_set_direction: g.direction,
+            ext_torque: v.ext_torque,
+            drive_operation_mode: a.ext.x.drive_mode,
+            position_correction: v.position_correction,
+            act_pos_without_pos_correction: v.act_pos_without_pos_correction,
+            drive_set_pos: v.drive_set_pos,
+            encoder_scaling_factor: a.cfg.encoder_scaling_factor,
+            encoder_offset: a.cfg.encoder_offset,
+            encoder_increments: v.encoder_increments,
+            control_loop_index: v.control_loop_index,
             accept_blocked_drive: a.ext.accept_blocked_drive,
             nc_io_outputs: a.ext.x.nc_io,
             masters: a
