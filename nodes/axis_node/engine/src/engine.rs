@@ -1007,12 +1007,7 @@ impl AxisEngine {
             Slot::Other(off) => {
                 self.axes[ax].other_params.insert(off, value);
             }
-            Slot::GearRatio => {
-                return Err(reject(
-                    COMMAND_NOT_PERMITTED,
-                    format!("axis '{name}': {fb}: AxisGearRatio (3000) only on a coupled slave"),
-                ))
-            }
+            Slot::GearRatio => self.write_gear_ratio(ax, value, fb)?,
             Slot::Status(_) => unreachable!("read-only checked above"),
         }
         let id = self
@@ -1020,6 +1015,47 @@ impl AxisEngine {
             .admit(ax, FbKind::WriteParameter, CommandState::Busy);
         self.instant_done.push(id);
         Ok(Self::reply(id))
+    }
+
+    /// AxisGearRatio (3000) written on a coupled slave (§4.4.8): applied at once. A position
+    /// coupling is re-anchored at the current master value so the slave does not jump (the
+    /// new ratio applies to the master's further travel); MC_GearInDyn takes it as its
+    /// effective ratio and target. Not a coupled slave, or several masters → 0x4B05.
+    fn write_gear_ratio(&mut self, ax: usize, value: f64, fb: &str) -> Result<(), Rejection> {
+        let name = self.axes[ax].name.clone();
+        let refuse = |why: &str| {
+            Err(reject(
+                COMMAND_NOT_PERMITTED,
+                format!("axis '{name}': {fb}: AxisGearRatio (3000) {why}"),
+            ))
+        };
+        let Some(mut c) = self.axes[ax].coupling else {
+            return refuse("only on a coupled slave");
+        };
+        if c.ext.multi.is_some() {
+            return refuse("of a multi-master coupling: the ratios are MC_GearInMultiMaster's");
+        }
+        if value == 0.0 {
+            return refuse("must not be 0");
+        }
+        let m = &self.axes[c.master];
+        let master = crate::gearing::MasterState {
+            set: m.set,
+            act_pos: m.act_pos,
+            act_velo: m.act_velo,
+            coord_offset: m.coord_offset,
+        };
+        match c.dynamic.as_mut() {
+            Some(d) => d.target = value,
+            None => {
+                let raw = self.axes[ax].master_value(&master).pos - master.coord_offset;
+                c.s0 += c.ratio * (raw - c.m0);
+                c.m0 = raw;
+            }
+        }
+        c.ratio = value;
+        self.axes[ax].coupling = Some(c);
+        Ok(())
     }
 
     // ------------------------------------------------------------------ MC_Home (§4.10)

@@ -460,3 +460,51 @@ fn gear_ratio_parameter_on_a_coupled_slave() {
         v => panic!("{v:?}"),
     }
 }
+
+/// AxisGearRatio (3000) on a coupled slave (§4.4.8): read gives the ratio; a write applies at
+/// once without a jump of the slave (the coupling is re-anchored at the master's current
+/// value), the slave then follows with the new ratio; uncoupled, 0 or NaN → refused.
+#[test]
+fn axis_gear_ratio_written_on_a_coupled_slave() {
+    let mut t = Two::new(AxisConfig::default());
+    let rw = |t: &mut Two, value: Option<f64>| {
+        let c = match value {
+            None => AxisCommand::ReadParameter(ReadParameter {
+                axis: "s".into(),
+                parameter_number: 3000,
+            }),
+            Some(value) => AxisCommand::WriteParameter(WriteParameter {
+                axis: "s".into(),
+                parameter_number: 3000,
+                value,
+            }),
+        };
+        t.e.command(c)
+    };
+    // Uncoupled: read and write refused with 0x4B05.
+    assert_eq!(rw(&mut t, None).unwrap_err().error_id, ErrorId(0x4B05));
+    assert_eq!(rw(&mut t, Some(2.0)).unwrap_err().error_id, ErrorId(0x4B05));
+    t.gear_in(1.0, 1).unwrap();
+    t.step();
+    t.vel("m", 100.0);
+    t.until(5000, |t| (t.st("m").set_velo - 100.0).abs() < 1e-9);
+    t.steps(10);
+    assert!(matches!(rw(&mut t, None).unwrap().value, ReplyValue::Real(r) if r == 1.0));
+    let before = t.st("s").set_pos;
+    let w = rw(&mut t, Some(2.0)).unwrap().id;
+    t.step();
+    assert!(t.out(w).done);
+    let after = t.st("s").set_pos;
+    // One cycle at the new ratio: 2 · 100 · DT, no jump.
+    assert!(
+        (after - before - 2.0 * 100.0 * DT).abs() < 1e-9,
+        "{before} -> {after}"
+    );
+    t.steps(10);
+    assert!((t.st("s").set_velo - 200.0).abs() < 1e-9);
+    assert!(matches!(rw(&mut t, None).unwrap().value, ReplyValue::Real(r) if r == 2.0));
+    for bad in [0.0, f64::NAN] {
+        assert!(rw(&mut t, Some(bad)).is_err(), "{bad}");
+    }
+    assert!(matches!(rw(&mut t, None).unwrap().value, ReplyValue::Real(r) if r == 2.0));
+}
