@@ -304,6 +304,237 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     assert!(!r.accepted);
     assert_eq!(r.error_id, 0x7F03, "{}", r.message);
 
+    // --- MC_PhasingUpdate on a running slow MC_PhasingAbsolute (ContinuousUpdate, to 20 at
+    // 1 u/s): the new
+    // shift 12 at 50 u/s ends the phasing at 12 (AbsPhasingPos on ~/axes/s/state); then
+    // MC_HaltPhasing stops a phasing toward 100 short of it (CommandAborted, φ stays).
+    let update: Client<PhasingUpdateRequest, PhasingUpdateResponse> = client(
+        &mut c,
+        "phasing_update",
+        srv::PhasingUpdate::service_type_name(),
+    )
+    .await;
+    let slow = call(
+        &abs,
+        "phasing_absolute slow",
+        PhasingAbsoluteRequest {
+            master: "m".into(),
+            slave: "s".into(),
+            phase_shift: 20.0,
+            velocity: 1.0,
+            continuous_update: true,
+            ..Default::default()
+        },
+    )
+    .await;
+    accepted("phasing_absolute slow", slow.accepted, &slow.message, &slow);
+    let r = call(
+        &update,
+        "phasing_update",
+        PhasingUpdateRequest {
+            command_id: slow.command_id,
+            phase_shift: 12.0,
+            velocity: 50.0,
+            ..Default::default()
+        },
+    )
+    .await;
+    accepted("phasing_update", r.accepted, &r.message, &r);
+    let o = b
+        .until(slow.command_id, "updated phasing Done", |o| o.done)
+        .await;
+    assert!((o.absolute_phase_shift - 12.0).abs() < 1e-9, "{o:?}");
+    within(10.0, "AbsPhasingPos 12", async {
+        loop {
+            let (st, _) = s_state.async_take().await.unwrap();
+            if (st.abs_phasing_pos - 12.0).abs() < 1e-9 {
+                break;
+            }
+        }
+    })
+    .await;
+    let r = call(
+        &update,
+        "phasing_update unknown command",
+        PhasingUpdateRequest {
+            command_id: 999_999,
+            phase_shift: 1.0,
+            velocity: 50.0,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(!r.accepted, "{r:?}");
+    let halt: Client<HaltPhasingRequest, HaltPhasingResponse> = client(
+        &mut c,
+        "halt_phasing",
+        srv::HaltPhasing::service_type_name(),
+    )
+    .await;
+    let far = call(
+        &abs,
+        "phasing_absolute far",
+        PhasingAbsoluteRequest {
+            master: "m".into(),
+            slave: "s".into(),
+            phase_shift: 100.0,
+            velocity: 5.0,
+            ..Default::default()
+        },
+    )
+    .await;
+    accepted("phasing_absolute far", far.accepted, &far.message, &far);
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    let r = call(
+        &halt,
+        "halt_phasing",
+        HaltPhasingRequest {
+            master: "m".into(),
+            slave: "s".into(),
+            ..Default::default()
+        },
+    )
+    .await;
+    accepted("halt_phasing", r.accepted, &r.message, &r);
+    b.until(far.command_id, "far phasing aborted", |o| o.command_aborted)
+        .await;
+    b.until(r.command_id, "halt_phasing Done", |o| o.done).await;
+    let phi = within(10.0, "phasing halted", async {
+        loop {
+            let (st, _) = s_state.async_take().await.unwrap();
+            if st.abs_phasing_pos > 12.0 && st.abs_phasing_pos < 100.0 {
+                return st.abs_phasing_pos;
+            }
+        }
+    })
+    .await;
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    let (st, _) = within(5.0, "state", s_state.async_take()).await.unwrap();
+    assert!(
+        st.abs_phasing_pos < 100.0 && st.abs_phasing_pos >= phi - 1e-9,
+        "{st:?}"
+    );
+
+    // --- MC_SelectControlLoop, MC_SetEncoderScalingFactor, MC_WriteNcIoOutput and
+    // MC_TableBasedPositionCompensation on e, with their bad inputs.
+    let scl: Client<SelectControlLoopRequest, SelectControlLoopResponse> = client(
+        &mut c,
+        "select_control_loop",
+        srv::SelectControlLoop::service_type_name(),
+    )
+    .await;
+    let r = call(
+        &scl,
+        "select_control_loop",
+        SelectControlLoopRequest {
+            axis: "e".into(),
+            select_type: 1,
+            ..Default::default()
+        },
+    )
+    .await;
+    accepted("select_control_loop", r.accepted, &r.message, &r);
+    b.until(r.command_id, "select_control_loop Done", |o| o.done)
+        .await;
+    let r = call(
+        &scl,
+        "select_control_loop type 9",
+        SelectControlLoopRequest {
+            axis: "e".into(),
+            select_type: 9,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(!r.accepted);
+    assert_eq!(r.error_id, 0x7F03, "{}", r.message);
+    let esf: Client<SetEncoderScalingFactorRequest, SetEncoderScalingFactorResponse> = client(
+        &mut c,
+        "set_encoder_scaling_factor",
+        srv::SetEncoderScalingFactor::service_type_name(),
+    )
+    .await;
+    let e_state = c.subscribe::<AxisState>("/axis_node/axes/e/state", AxisState::type_name());
+    let r = call(
+        &esf,
+        "set_encoder_scaling_factor",
+        SetEncoderScalingFactorRequest {
+            axis: "e".into(),
+            scaling_factor: 0.5,
+            ..Default::default()
+        },
+    )
+    .await;
+    accepted("set_encoder_scaling_factor", r.accepted, &r.message, &r);
+    b.until(r.command_id, "scaling factor Done", |o| o.done)
+        .await;
+    within(10.0, "encoder increments at 0.5 u/inc", async {
+        loop {
+            let (st, _) = e_state.async_take().await.unwrap();
+            let expected = (st.act_pos / 0.5).round().rem_euclid(4_294_967_296.0) as u32;
+            if st.encoder_increments == expected && st.act_pos != 0.0 {
+                break;
+            }
+            if st.act_pos == 0.0 && st.encoder_increments == 0 {
+                break;
+            }
+        }
+    })
+    .await;
+    for (f, id) in [(0.0, 0x7F06u32), (f64::NAN, 0x7F02)] {
+        let r = call(
+            &esf,
+            "set_encoder_scaling_factor bad",
+            SetEncoderScalingFactorRequest {
+                axis: "e".into(),
+                scaling_factor: f,
+                ..Default::default()
+            },
+        )
+        .await;
+        assert!(!r.accepted, "{f}");
+        if id == 0x7F02 {
+            assert_eq!(r.error_id, id, "{}", r.message);
+        }
+    }
+    let io: Client<WriteNcIoOutputRequest, WriteNcIoOutputResponse> = client(
+        &mut c,
+        "write_nc_io_output",
+        srv::WriteNcIoOutput::service_type_name(),
+    )
+    .await;
+    let r = call(
+        &io,
+        "write_nc_io_output",
+        WriteNcIoOutputRequest {
+            axis: "e".into(),
+            device: 0,
+            nc_io_output: 2,
+            bit_select_mask: 0xFF,
+            bit_values: 0x5A,
+        },
+    )
+    .await;
+    accepted("write_nc_io_output", r.accepted, &r.message, &r);
+    b.until(r.command_id, "write_nc_io_output Done", |o| o.done)
+        .await;
+    for (device, out) in [(5u8, 0u8), (0, 14)] {
+        let r = call(
+            &io,
+            "write_nc_io_output bad",
+            WriteNcIoOutputRequest {
+                axis: "e".into(),
+                device,
+                nc_io_output: out,
+                bit_select_mask: 1,
+                bit_values: 1,
+            },
+        )
+        .await;
+        assert!(!r.accepted, "device {device} output {out}");
+        assert_eq!(r.error_id, 0x7F03, "{}", r.message);
+    }
+
     let gear_out: Client<GearOutRequest, GearOutResponse> =
         client(&mut c, "gear_out", srv::GearOut::service_type_name()).await;
     let r = call(&gear_out, "gear_out", GearOutRequest { slave: "s".into() }).await;
