@@ -9,21 +9,7 @@ use motion_core::ErrorId;
 use p4rig::*;
 
 fn rig(pc: PlatformConfig) -> P4 {
-    let cfg = EngineConfig {
-        platform_profile: PlatformProfile::IsgMcp,
-        groups: vec![GroupConfig {
-            name: G.into(),
-            axes: vec!["x".into(), "y".into()],
-        }],
-        platform: pc,
-    };
-    let mut r = P4::build(vec![("x".into(), a0_cfg()), ("y".into(), a0_cfg())], cfg);
-    r.steps(10);
-    r.power("x", true).unwrap();
-    r.power("y", true).unwrap();
-    r.step();
-    assert_eq!(r.gs().state, GroupState::Standby);
-    r
+    P4::isg_xy(pc)
 }
 
 #[test]

@@ -280,6 +280,26 @@ impl P4 {
         r
     }
 
+    /// `isg_mcp` with axes x, y (axis 0's config) in group "g", start-up done, both powered:
+    /// the group is GroupStandby.
+    pub fn isg_xy(pc: PlatformConfig) -> Self {
+        let cfg = EngineConfig {
+            platform_profile: PlatformProfile::IsgMcp,
+            groups: vec![GroupConfig {
+                name: G.into(),
+                axes: vec!["x".into(), "y".into()],
+            }],
+            platform: pc,
+        };
+        let mut r = P4::build(vec![("x".into(), a0_cfg()), ("y".into(), a0_cfg())], cfg);
+        r.steps(10);
+        r.power("x", true).unwrap();
+        r.power("y", true).unwrap();
+        r.step();
+        assert_eq!(r.gs().state, GroupState::Standby);
+        r
+    }
+
     /// `isg_mcp` with default platform settings, ready.
     pub fn isg() -> Self {
         P4::isg_with(PlatformConfig::default())
