@@ -11,9 +11,12 @@ use axis_node::AxisNode;
 use motion_msgs::action::{
     AxesGroupHalt, AxesGroupHaltFeedback, AxesGroupHaltGoal, AxesGroupHaltResult,
     MoveLinearAbsolute, MoveLinearAbsoluteFeedback, MoveLinearAbsoluteGoal,
-    MoveLinearAbsoluteResult,
+    MoveLinearAbsoluteResult, MoveRelative, MoveRelativeFeedback, MoveRelativeGoal,
+    MoveRelativeResult,
 };
-use motion_msgs::msg::{AxesGroupState, AxisEvent, CommandStatus, FbCall, FbOut, PlatformStatus};
+use motion_msgs::msg::{
+    AxesGroupState, AxisEvent, AxisState, CommandStatus, FbCall, FbOut, PlatformStatus,
+};
 use motion_msgs::srv::{
     AxesGroupAddAxis, AxesGroupAddAxisRequest, AxesGroupAddAxisResponse, AxesGroupCommand,
     AxesGroupCommandRequest, AxesGroupCommandResponse, AxesGroupReadActual,
@@ -674,6 +677,48 @@ async fn safety(mapping: ServiceMapping) {
     .await
     .unwrap();
     assert!(!r.outputs[0].done && !r.outputs[0].busy);
+
+    // Action feedback (§12.1): the ISG order number and the axis state of a running move.
+    let mr = c
+        .action::<MoveRelativeGoal, MoveRelativeResult, MoveRelativeFeedback>(
+            "/axis_node/move_relative",
+            &MoveRelative::action_type_name(),
+        )
+        .await;
+    let (gid, resp) = send_goal(
+        &mr,
+        "move_relative y",
+        MoveRelativeGoal {
+            axis: "y".into(),
+            distance: 3.0,
+            velocity: 10.0,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(resp.accepted);
+    {
+        use futures::StreamExt;
+        let mut fb = Box::pin(mr.feedback_stream(gid));
+        within(10.0, "feedback with order number", async {
+            loop {
+                let f = fb.next().await.expect("feedback").expect("feedback ok");
+                if f.active && f.order_id > 0 {
+                    assert_eq!(
+                        f.axis_state,
+                        AxisState::MC_AXISSTATE_DISCRETEMOTION,
+                        "{f:?}"
+                    );
+                    break;
+                }
+            }
+        })
+        .await;
+    }
+    let (status, _) = within(20.0, "move_relative y result", mr.async_request_result(gid))
+        .await
+        .unwrap();
+    assert_eq!(status, GoalStatusEnum::Succeeded);
 
     // ~/submit_batch (§12.1): two orders on y in one cycle: the second finds the order slot
     // used (4, R-HS-3); a bad order text refuses the whole batch.

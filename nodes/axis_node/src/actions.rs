@@ -1,5 +1,6 @@
 //! Motion commands as ROS actions: goal = Execute edge, feedback = Busy/Active/position/
-//! velocity at the state rate, result = Done | CommandAborted | Error with ErrorID.
+//! velocity, the ISG order number and the axis state at the state rate, result = Done |
+//! CommandAborted | Error with ErrorID.
 //! Cancel = MC_Halt with the axis defaults (the engine's `cancel`).
 
 use axis_engine::{AxisCommand, AxisEngine, AxisReply, AxisSnapshot, FbOutputs, ReplyValue};
@@ -16,6 +17,22 @@ fn actual(snap: &Stamped<AxisSnapshot>, axis: &str) -> (f64, f64) {
         .find(|a| a.name == axis)
         .map(|a| (a.act_pos, a.act_velo))
         .unwrap_or((0.0, 0.0))
+}
+
+/// MC_AxisStates of `axis` in the snapshot.
+fn axis_state(snap: &Stamped<AxisSnapshot>, axis: &str) -> u8 {
+    snap.state.axis(axis).map_or(0, |a| a.motion_state as u8)
+}
+
+/// The ISG order number of command `id` while it controls or is buffered on an axis
+/// (`isg_mcp`), else 0.
+fn order_id(snap: &Stamped<AxisSnapshot>, id: CmdId) -> u32 {
+    snap.state
+        .platform
+        .orders
+        .iter()
+        .find(|o| o.0 == id.0)
+        .map_or(0, |o| o.1)
 }
 
 /// The Done-type flag of an instance's outputs (`~/get_outputs` data), for actions that
@@ -75,6 +92,21 @@ macro_rules! motion_action {
                     active: o.active,
                     position,
                     velocity,
+                    order_id: 0,
+                    axis_state: axis_state(snap, &g.$axis),
+                }
+            }
+
+            fn feedback_of(
+                &self,
+                g: &$goal,
+                id: CmdId,
+                snap: &Stamped<AxisSnapshot>,
+                state: CommandState,
+            ) -> $feedback {
+                $feedback {
+                    order_id: order_id(snap, id),
+                    ..self.feedback(g, snap, state)
                 }
             }
 

@@ -244,6 +244,11 @@ impl Handshake {
                 locked: false,
             },
         );
+        // The admission is the instance's first status (Busy, or Active when it takes over
+        // at once): reported like every later change, so watchers see Active from the start.
+        if !state.is_final() {
+            self.events.push(CommandEvent { id, state });
+        }
         id
     }
 

@@ -41,6 +41,8 @@ fn events_report_every_state_change_once() {
     assert_eq!(
         evs,
         vec![
+            (a, CommandState::Active),
+            (b, CommandState::Busy),
             (a, CommandState::Done),
             (b, CommandState::Active),
             (b, CommandState::Done)

@@ -311,7 +311,7 @@ fn stop_and_reset_on_a_slave() {
     t.until(2000, |t| t.out(r).done);
     assert_eq!(t.st("s").motion_state, MotionState::Standstill);
     assert!(matches!(
-        t.ev.iter().find(|e| e.id == r).map(|e| e.state),
+        t.ev.iter().rev().find(|e| e.id == r).map(|e| e.state),
         Some(CommandState::Done)
     ));
 }

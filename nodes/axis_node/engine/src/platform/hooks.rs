@@ -777,6 +777,19 @@ impl AxisEngine {
             } else {
                 Vec::new()
             },
+            orders: if p.isg() {
+                self.axes
+                    .iter()
+                    .flat_map(|a| {
+                        let job = a.job.and_then(|j| j.owner);
+                        let pending = a.pending.as_ref().map(|q| q.owner);
+                        job.into_iter().chain(pending)
+                    })
+                    .filter_map(|id| p.order_ids.get(&id).map(|&o| (id.0, o)))
+                    .collect()
+            } else {
+                Vec::new()
+            },
             clog_warnings: self.raw.warnings.len(),
             recent_clog_warnings: self.raw.warnings
                 [self.raw.warnings.len().saturating_sub(RECENT_CLOG_WARNINGS)..]

@@ -161,7 +161,7 @@ impl AxisEngine {
         let mut accepted = std::mem::take(&mut self.raw.accepted);
         // An order overwritten in its own cycle (MC_Stop / MC_GroupStop, R-HS-4) is
         // acknowledged ACCEPTED before its ABORTED.
-        for e in &pre {
+        for e in pre.iter().filter(|e| e.state.is_final()) {
             let owner = self.raw.owner_of.get(&e.id).copied();
             if let Some(p) = owner.and_then(|k| accepted.iter().position(|a| a.0 == k)) {
                 let a = accepted.remove(p);
