@@ -767,6 +767,63 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     .await;
     assert_eq!(r.error_id, 0x7F03, "{}", r.message);
 
+    // --- MC_TableBasedPositionCompensation (Enable-type) on e at 2: the table 0 → 0, 10 → 1,
+    // 20 → 2 gives a correction of 0.2 (in ~/axes/e/state); a table whose length differs from
+    // NoOfTableElements is refused.
+    let tc: Client<TableBasedPositionCompensationRequest, TableBasedPositionCompensationResponse> =
+        client(
+            &mut c,
+            "table_based_position_compensation",
+            srv::TableBasedPositionCompensation::service_type_name(),
+        )
+        .await;
+    let table = |n: u32| TableBasedPositionCompensationRequest {
+        axis: "e".into(),
+        enable: true,
+        table: [0.0, 10.0, 20.0]
+            .iter()
+            .map(|&p| motion_msgs::msg::PositionCompensationTableElement {
+                position: p,
+                compensation: p / 10.0,
+            })
+            .collect(),
+        min_position: 0.0,
+        max_position: 20.0,
+        no_of_table_elements: n,
+        direction: 1,
+        ..Default::default()
+    };
+    let r = call(&tc, "table compensation", table(3)).await;
+    accepted("table compensation", r.accepted, &r.message, &r);
+    assert!(r.enabled, "{r:?}");
+    within(10.0, "correction 0.2 on e", async {
+        loop {
+            let (st, _) = e_state.async_take().await.unwrap();
+            if (st.position_correction - 0.2).abs() < 1e-9 {
+                assert!(
+                    (st.drive_set_pos - (st.set_pos - 0.2)).abs() < 1e-9,
+                    "{st:?}"
+                );
+                break;
+            }
+        }
+    })
+    .await;
+    let r = call(&tc, "table compensation, wrong element count", table(4)).await;
+    assert!(!r.accepted, "{r:?}");
+    let r = call(
+        &tc,
+        "table compensation off",
+        TableBasedPositionCompensationRequest {
+            axis: "e".into(),
+            enable: false,
+            disable_mode: 1,
+            ..Default::default()
+        },
+    )
+    .await;
+    assert!(r.accepted && !r.enabled, "{r:?}");
+
     // --- MC_ConvertPosToIncPos / IncPosToPos on m (AxisEncoderScalingFactor 0.0001, offset 0).
     let p2i: Client<ConvertPosToIncPosRequest, ConvertPosToIncPosResponse> = client(
         &mut c,
