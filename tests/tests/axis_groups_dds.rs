@@ -556,18 +556,33 @@ async fn safety(mapping: ServiceMapping) {
         assert!(r.accepted, "{name}: {}", r.message);
     }
     let goal = MoveLinearAbsoluteGoal {
-        position: vec![10.0, 20.0],
+        position: vec![10.0, 60.0],
         velocity: 500.0,
         coord_system: 1,
         ..Default::default()
     };
     let (gid, _) = send_goal(&ac, "move in T1 with START", goal).await;
+    {
+        // Feedback (§12.1): the ISG order number and the group state while it moves.
+        use futures::StreamExt;
+        let mut fb = Box::pin(ac.feedback_stream(gid));
+        within(10.0, "group feedback with order number", async {
+            loop {
+                let f = fb.next().await.expect("feedback").expect("feedback ok");
+                if f.active && f.order_id > 0 {
+                    assert_eq!(f.group_state, AxesGroupState::STATE_GROUP_MOVING, "{f:?}");
+                    break;
+                }
+            }
+        })
+        .await;
+    }
     let (status, result) = within(20.0, "T1 move with START", ac.async_request_result(gid))
         .await
         .unwrap();
     assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
     assert!((result.positions[0] - 10.0).abs() < 1e-9, "{result:?}");
-    assert!((result.positions[1] - 20.0).abs() < 1e-9, "{result:?}");
+    assert!((result.positions[1] - 60.0).abs() < 1e-9, "{result:?}");
 
     // The raw FB layer over ROS (~/fb/cycle, §12.2): a wrong interface hash is refused with
     // 4904; with the node's hash (from ~/platform/versions) an MC_MoveRelative instance on x

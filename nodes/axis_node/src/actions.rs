@@ -26,7 +26,7 @@ fn axis_state(snap: &Stamped<AxisSnapshot>, axis: &str) -> u8 {
 
 /// The ISG order number of command `id` while it controls or is buffered on an axis
 /// (`isg_mcp`), else 0.
-fn order_id(snap: &Stamped<AxisSnapshot>, id: CmdId) -> u32 {
+pub(crate) fn order_id(snap: &Stamped<AxisSnapshot>, id: CmdId) -> u32 {
     snap.state
         .platform
         .orders

@@ -459,6 +459,21 @@ macro_rules! group_action {
                     active: o.active,
                     positions: s.map(|s| s.act_position.clone()).unwrap_or_default(),
                     path_velocity: s.map_or(0.0, |s| s.path_velocity),
+                    order_id: 0,
+                    group_state: s.map_or(0, |s| s.state as u8),
+                }
+            }
+
+            fn feedback_of(
+                &self,
+                g: &$goal,
+                id: CmdId,
+                snap: &Stamped<AxisSnapshot>,
+                state: CommandState,
+            ) -> $feedback {
+                $feedback {
+                    order_id: crate::actions::order_id(snap, id),
+                    ..self.feedback(g, snap, state)
                 }
             }
 

@@ -136,6 +136,12 @@ impl AxisEngine {
                 cleared: false,
             },
         );
+        // The admission is the instance's first status, reported like the later ones.
+        if !state.is_final() {
+            self.fbs
+                .events
+                .push(motion_core::CommandEvent { id, state });
+        }
         id
     }
 

@@ -778,13 +778,16 @@ impl AxisEngine {
                 Vec::new()
             },
             orders: if p.isg() {
-                self.axes
-                    .iter()
-                    .flat_map(|a| {
-                        let job = a.job.and_then(|j| j.owner);
-                        let pending = a.pending.as_ref().map(|q| q.owner);
-                        job.into_iter().chain(pending)
-                    })
+                let axes = self.axes.iter().flat_map(|a| {
+                    let job = a.job.and_then(|j| j.owner);
+                    let pending = a.pending.as_ref().map(|q| q.owner);
+                    job.into_iter().chain(pending)
+                });
+                let groups = self.groups.list.iter().flat_map(|g| {
+                    let job = g.job.as_ref().and_then(|j| j.owner);
+                    job.into_iter().chain(g.lock.map(|l| l.owner))
+                });
+                axes.chain(groups)
                     .filter_map(|id| p.order_ids.get(&id).map(|&o| (id.0, o)))
                     .collect()
             } else {

@@ -398,8 +398,8 @@ pub struct PlatformStatus {
     pub clog_warnings: usize,
     /// The last [`RECENT_CLOG_WARNINGS`] of them, oldest first (for `~/events`).
     pub recent_clog_warnings: Vec<raw::RawWarning>,
-    /// Order numbers of the commands in control of an axis or buffered on it (`isg_mcp`):
-    /// (command id, order number), for the action feedback (§12.1).
+    /// Order numbers of the commands in control of an axis or group, or buffered on an axis
+    /// (`isg_mcp`): (command id, order number), for the action feedback (§12.1).
     pub orders: Vec<(u64, u32)>,
     /// Next order number.
     pub g_order_id: u32,
