@@ -224,7 +224,6 @@ impl<E: Engine> Controller<E> {
             stop: stop.clone(),
             wake: wake.clone(),
             free_run: false,
-            custom: None,
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
@@ -492,8 +491,6 @@ struct CycleThread<E: Engine> {
     stop: Arc<AtomicBool>,
     wake: Arc<Wake>,
     free_run: bool,
-    /// A custom cycle waiting for the next cycle.
-    custom: Option<CustomStep<E>>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -604,12 +601,11 @@ impl<E: Engine> CycleThread<E> {
     /// One cycle: commands in arrival order, then `step` (or a custom cycle that came with
     /// them; commands behind it wait for the next cycle), then events and snapshot.
     fn cycle_once(&mut self) {
-        let mut custom = self.custom.take();
-        while custom.is_none() {
-            match self.rx.try_recv() {
-                Ok(Request::Cycle(f)) => custom = Some(f),
-                Ok(req) => self.apply(req),
-                Err(_) => break,
+        let mut custom = None;
+        while let Ok(req) = self.rx.try_recv() {
+            custom = self.apply(req);
+            if custom.is_some() {
+                break;
             }
         }
         let tick = Tick {
@@ -644,7 +640,8 @@ impl<E: Engine> CycleThread<E> {
         }
     }
 
-    fn apply(&mut self, req: Request<E>) {
+    /// Applies a command or cancel; a custom cycle is handed back to run instead of `step`.
+    fn apply(&mut self, req: Request<E>) -> Option<CustomStep<E>> {
         match req {
             Request::Command {
                 cmd,
@@ -666,9 +663,9 @@ impl<E: Engine> CycleThread<E> {
             Request::Cancel { id, reply } => {
                 let _ = reply.send(self.engine.cancel(id));
             }
-            // (cycle_once takes custom cycles before they get here.)
-            Request::Cycle(f) => self.custom = Some(f),
+            Request::Cycle(f) => return Some(f),
         }
+        None
     }
 
     fn take_snapshot(&mut self) {

@@ -1038,17 +1038,10 @@ impl AxisEngine {
         if value == 0.0 {
             return refuse("must not be 0");
         }
-        let m = &self.axes[c.master];
-        let master = crate::gearing::MasterState {
-            set: m.set,
-            act_pos: m.act_pos,
-            act_velo: m.act_velo,
-            coord_offset: m.coord_offset,
-        };
         match c.dynamic.as_mut() {
             Some(d) => d.target = value,
             None => {
-                let raw = self.axes[ax].master_value(&master).pos - master.coord_offset;
+                let raw = self.master_raw(ax, c.master).pos;
                 c.s0 += c.ratio * (raw - c.m0);
                 c.m0 = raw;
             }
@@ -1391,12 +1384,7 @@ impl AxisEngine {
                 ),
             ));
         }
-        let ms = MasterState {
-            set: m.set,
-            act_pos: m.act_pos,
-            act_velo: m.act_velo,
-            coord_offset: m.coord_offset,
-        };
+        let ms = MasterState::of(m);
         let id = self.fbs.admit(slave, FbKind::GearIn, CommandState::Active);
         let ratio = c.ratio_numerator / c.ratio_denominator as f64;
         let a = &mut self.axes[slave];
@@ -1501,12 +1489,7 @@ impl AxisEngine {
                 ),
             ));
         }
-        let ms = MasterState {
-            set: m.set,
-            act_pos: m.act_pos,
-            act_velo: m.act_velo,
-            coord_offset: m.coord_offset,
-        };
+        let ms = MasterState::of(m);
         let id = self
             .fbs
             .admit(slave, FbKind::GearInDyn, CommandState::Active);
@@ -2544,15 +2527,9 @@ impl Engine for AxisEngine {
         self.ca.step(tick.dt, &mut self.axes, &mut self.fbs);
         for k in 0..self.order.len() {
             let i = self.order[k];
-            let master = self.axes[i].coupling.map(|c| {
-                let m = &self.axes[c.master];
-                MasterState {
-                    set: m.set,
-                    act_pos: m.act_pos,
-                    act_velo: m.act_velo,
-                    coord_offset: m.coord_offset,
-                }
-            });
+            let master = self.axes[i]
+                .coupling
+                .map(|c| MasterState::of(&self.axes[c.master]));
             self.pre_step_axis3(i, tick.dt);
             self.axes[i].step(tick.dt, master, &mut self.fbs);
             self.post_step_axis3(i, tick.dt);

@@ -45,6 +45,18 @@ pub(crate) struct MasterState {
     pub coord_offset: f64,
 }
 
+impl MasterState {
+    /// What a slave reads from master axis `m`.
+    pub(crate) fn of(m: &Axis) -> Self {
+        MasterState {
+            set: m.set,
+            act_pos: m.act_pos,
+            act_velo: m.act_velo,
+            coord_offset: m.coord_offset,
+        }
+    }
+}
+
 impl Axis {
     /// The master value the coupling uses (set or actual, parameter 1064).
     pub(crate) fn master_value(&self, m: &MasterState) -> State1 {

@@ -371,14 +371,9 @@ impl AxisEngine {
     }
 
     /// The master value slave `s` couples to (set or actual, 1064), in raw coordinates.
-    fn master_raw(&self, s: usize, m: usize) -> State1 {
+    pub(crate) fn master_raw(&self, s: usize, m: usize) -> State1 {
         let ma = &self.axes[m];
-        let ms = crate::gearing::MasterState {
-            set: ma.set,
-            act_pos: ma.act_pos,
-            act_velo: ma.act_velo,
-            coord_offset: ma.coord_offset,
-        };
+        let ms = crate::gearing::MasterState::of(ma);
         let v = self.axes[s].master_value(&ms);
         State1 {
             pos: v.pos - ma.coord_offset,

@@ -446,19 +446,18 @@ impl AxisEngine {
             // stop with the limit deceleration `a_limit` (R-SYS-1) and the fast jerk; class 3:
             // brake at once.
             if (reaction == 1 || reaction == 2) && a.moving() {
-                let d = match reaction {
-                    1 => a.last_dec,
-                    _ => self.platform.axes[ax].a_limit(a.cfg.fast_deceleration),
+                let (d, jerk) = match reaction {
+                    1 => (a.last_dec, a.last_jerk),
+                    _ => (
+                        self.platform.axes[ax].a_limit(a.cfg.fast_deceleration),
+                        a.cfg.fast_jerk,
+                    ),
                 };
                 let l = motion_core::Limits {
                     velocity: a.cfg.max_velocity,
                     acceleration: d,
                     deceleration: d,
-                    jerk: if reaction == 1 {
-                        a.last_jerk
-                    } else {
-                        a.cfg.fast_jerk
-                    },
+                    jerk,
                 };
                 let profile = a.plan_stop(&l);
                 let stop = profile.end().pos;

@@ -155,25 +155,27 @@ impl AxisEngine {
             outs.push(self.raw_call(call));
         }
         // (3) the MC consumes the orders: aborts caused by them first, then ACCEPTED, then
-        // what the cycle itself produces.
-        let mut pre = std::mem::take(&mut self.fbs.events);
-        let mut evs = Vec::new();
+        // what the cycle itself produces (`step` routes raw-owned events to their queues).
+        let from = events.len();
+        events.append(&mut self.fbs.events);
         let mut accepted = std::mem::take(&mut self.raw.accepted);
         // An order overwritten in its own cycle (MC_Stop / MC_GroupStop, R-HS-4) is
         // acknowledged ACCEPTED before its ABORTED.
-        for e in pre.iter().filter(|e| e.state.is_final()) {
+        for e in &events[from..] {
             let owner = self.raw.owner_of.get(&e.id).copied();
-            if let Some(p) = owner.and_then(|k| accepted.iter().position(|a| a.0 == k)) {
+            if let Some(p) = owner
+                .filter(|_| e.state.is_final())
+                .and_then(|i| accepted.iter().position(|a| a.0 == i))
+            {
                 let a = accepted.remove(p);
                 self.raw_accepted(a);
             }
         }
-        self.raw_post_events(&mut pre, events);
+        self.raw_route(events, from);
         for a in accepted {
             self.raw_accepted(a);
         }
-        Engine::step(self, tick, &mut evs);
-        self.raw_post_events(&mut evs, events);
+        Engine::step(self, tick, events);
         // InVelocity acknowledgements.
         for k in 0..self.raw.instances.len() {
             let i = &self.raw.instances[k];
@@ -239,26 +241,27 @@ impl AxisEngine {
         }
         let mut k = from;
         while k < events.len() {
-            if self.raw.owner_of.contains_key(&events[k].id) {
-                let e = events.remove(k);
-                self.raw_ack(e);
+            if self.raw_ack(events[k]) {
+                events.remove(k);
             } else {
                 k += 1;
             }
         }
     }
 
-    /// The acknowledgement of a raw-owned command's event (final states only).
-    fn raw_ack(&mut self, e: CommandEvent) {
+    /// Queues the acknowledgement of a raw-owned command's final event; false if the command
+    /// is not raw-owned (the event stays with the caller).
+    fn raw_ack(&mut self, e: CommandEvent) -> bool {
         let Some(&k) = self.raw.owner_of.get(&e.id) else {
-            return;
+            return false;
         };
         let kind = match e.state {
             CommandState::Done => AckKind::Done,
             CommandState::Aborted => AckKind::Aborted,
             CommandState::Error(id) => AckKind::Error(self.platform_error_id(e.id, id)),
-            // The axis engine never ends an instance without an output.
-            CommandState::Busy | CommandState::Active | CommandState::Ended => return,
+            // The admission is acknowledged as ACCEPTED by the raw layer itself; the axis
+            // engine never ends an instance without an output (Ended).
+            CommandState::Busy | CommandState::Active | CommandState::Ended => return true,
         };
         let i = &self.raw.instances[k];
         let (axis, order_id) = (i.axis, i.order_id);
@@ -268,16 +271,7 @@ impl AxisEngine {
             posted: self.raw.cycle,
             order_id,
         });
-    }
-
-    fn raw_post_events(&mut self, evs: &mut Vec<CommandEvent>, out: &mut Vec<CommandEvent>) {
-        for e in evs.drain(..) {
-            if self.raw.owner_of.contains_key(&e.id) {
-                self.raw_ack(e);
-            } else {
-                out.push(e);
-            }
-        }
+        true
     }
 
     fn raw_call(&mut self, call: &FbCall) -> FbOut {
