@@ -30,20 +30,19 @@ fn events_qos() -> QosProfile {
         .history(History::KeepAll)
 }
 
-/// What changed between two snapshots, as events (without stamp and sequence number).
+/// What changed between two snapshots, as events (without stamp and sequence number). The
+/// axes (and the platform's per-axis entries, when present) are in configuration order in
+/// every snapshot, so they are compared by index.
 pub fn diff(prev: &AxisSnapshot, next: &AxisSnapshot) -> Vec<AxisEvent> {
     let mut out = Vec::new();
     let (p, n) = (&prev.platform, &next.platform);
     safety_changes(p, n, &mut out);
-    for a in &next.axes {
-        let before = prev.axis(&a.name);
-        let msgs = n.axes.iter().find(|s| s.name == a.name);
-        let old = p.axes.iter().find(|s| s.name == a.name);
-        let fresh: Vec<&McMessage> = match msgs {
-            Some(s) => new_messages(old.map_or(&[][..], |o| &o.messages[..]), &s.messages),
-            None => Vec::new(),
+    for (k, a) in next.axes.iter().enumerate() {
+        let fresh = match n.axes.get(k) {
+            Some(s) => new_messages(p.axes.get(k).map_or(&[], |o| &o.messages), &s.messages),
+            None => &[],
         };
-        for m in &fresh {
+        for m in fresh.iter().rev() {
             let error = m.behebungs_klasse > 0;
             out.push(event(
                 if error {
@@ -66,7 +65,7 @@ pub fn diff(prev: &AxisSnapshot, next: &AxisSnapshot) -> Vec<AxisEvent> {
                 },
             ));
         }
-        let was = before.map_or(0, |b| b.error_code);
+        let was = prev.axes.get(k).map_or(0, |b| b.error_code);
         if a.error_code != 0 && a.error_code != was && !fresh.iter().any(|m| m.behebungs_klasse > 0)
         {
             out.push(event(
@@ -100,15 +99,14 @@ pub fn diff(prev: &AxisSnapshot, next: &AxisSnapshot) -> Vec<AxisEvent> {
     out
 }
 
-/// Messages of `next` (newest first) that `prev` did not have: those newer than `prev`'s
-/// newest (by cycle, then by position among equal cycles).
-fn new_messages<'a>(prev: &[McMessage], next: &'a [McMessage]) -> Vec<&'a McMessage> {
-    let Some(top) = prev.first() else {
-        return next.iter().rev().collect();
-    };
-    // Count how many entries of `next` precede the first one equal to prev's newest.
-    let k = next.iter().position(|m| m == top).unwrap_or(next.len());
-    next[..k].iter().rev().collect()
+/// Messages of `next` (newest first) that `prev` did not have: those in front of `prev`'s
+/// newest (all of them when `prev` had none).
+fn new_messages<'a>(prev: &[McMessage], next: &'a [McMessage]) -> &'a [McMessage] {
+    let k = prev
+        .first()
+        .and_then(|top| next.iter().position(|m| m == top))
+        .unwrap_or(next.len());
+    &next[..k]
 }
 
 fn safety_changes(p: &PlatformStatus, n: &PlatformStatus, out: &mut Vec<AxisEvent>) {
@@ -138,10 +136,7 @@ fn safety_changes(p: &PlatformStatus, n: &PlatformStatus, out: &mut Vec<AxisEven
             format!("START button {}", on_off(n.start_button)),
         );
     }
-    for a in &n.axes {
-        let Some(b) = p.axes.iter().find(|x| x.name == a.name) else {
-            continue;
-        };
+    for (a, b) in n.axes.iter().zip(&p.axes) {
         let items: [(&str, Flag); 5] = [
             ("feed_hold", |s| s.feed_hold),
             ("velocity_monitoring", |s| s.velocity_monitoring),

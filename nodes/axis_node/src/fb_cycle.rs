@@ -18,24 +18,28 @@ use motion_msgs::srv::{
 use motion_runtime::{CommandLabel, ControllerHandle, NodeShell, ShellError};
 use std::sync::Arc;
 
-/// An FB call from its JSON text (the engine's serde form); `what` names it in errors.
-fn fb_from_json(text: &str, what: &str) -> Result<AxisCommand, Rejection> {
-    serde_json::from_str(text).map_err(|e| {
+/// An FB call from its JSON text (the engine's serde form `{"<Fb>": {...}}`) and the FB's
+/// name (`<Fb>`); `what` names it in errors.
+fn fb_from_json(text: &str, what: &str) -> Result<(AxisCommand, String), Rejection> {
+    let bad = |e: serde_json::Error| {
         Rejection::new(
             ErrorId::VALUE_OUT_OF_RANGE,
             format!("{what}: not an FB call: {e}"),
         )
-    })
+    };
+    let v: serde_json::Value = serde_json::from_str(text).map_err(bad)?;
+    let name = v
+        .as_object()
+        .and_then(|o| o.keys().next().cloned())
+        .unwrap_or_default();
+    Ok((serde_json::from_value(v).map_err(bad)?, name))
 }
 
-/// `~/command_status` label of a batch order: its axis or group and the FB in snake_case.
-fn batch_label(text: &str, cmd: &AxisCommand) -> CommandLabel {
-    let variant = serde_json::from_str::<serde_json::Value>(text)
-        .ok()
-        .and_then(|v| v.as_object().and_then(|o| o.keys().next().cloned()))
-        .unwrap_or_default();
+/// `~/command_status` label of a batch order: its axis or group and the FB (`name`, as in
+/// the JSON) in snake_case.
+fn batch_label(name: &str, cmd: &AxisCommand) -> CommandLabel {
     let mut command = String::new();
-    for (k, ch) in variant.chars().enumerate() {
+    for (k, ch) in name.chars().enumerate() {
         if ch.is_uppercase() && k > 0 {
             command.push('_');
         }
@@ -64,7 +68,7 @@ fn decode(req: &FbCycleRequest) -> Result<Vec<RawCall>, Rejection> {
         .iter()
         .enumerate()
         .map(|(k, c)| {
-            let fb = fb_from_json(&c.fb, &format!("calls[{k}] ({}): fb", c.instance))?;
+            let (fb, _) = fb_from_json(&c.fb, &format!("calls[{k}] ({}): fb", c.instance))?;
             if c.instance.is_empty() {
                 return Err(Rejection::new(
                     ErrorId::VALUE_OUT_OF_RANGE,
@@ -140,26 +144,25 @@ async fn batch(
     labels: Arc<motion_runtime::shell::CommandRegistry>,
     req: SubmitBatchRequest,
 ) -> SubmitBatchResponse {
+    let refused = |r: Rejection| SubmitBatchResponse {
+        accepted: false,
+        error_id: r.error_id.0,
+        message: r.message,
+        ..SubmitBatchResponse::default()
+    };
     let decoded: Result<Vec<(AxisCommand, CommandLabel)>, Rejection> = req
         .orders
         .iter()
         .enumerate()
         .map(|(k, t)| {
-            let c = fb_from_json(t, &format!("orders[{k}]"))?;
-            let l = batch_label(t, &c);
+            let (c, name) = fb_from_json(t, &format!("orders[{k}]"))?;
+            let l = batch_label(&name, &c);
             Ok((c, l))
         })
         .collect();
     let orders = match decoded {
         Ok(o) => o,
-        Err(r) => {
-            return SubmitBatchResponse {
-                accepted: false,
-                error_id: r.error_id.0,
-                message: r.message,
-                ..SubmitBatchResponse::default()
-            }
-        }
+        Err(r) => return refused(r),
     };
     let ran = handle
         .cycle_with(move |e: &mut AxisEngine, tick, events| {
@@ -202,12 +205,7 @@ async fn batch(
             }
             r
         }
-        Err(e) => SubmitBatchResponse {
-            accepted: false,
-            error_id: e.error_id.0,
-            message: e.message,
-            ..SubmitBatchResponse::default()
-        },
+        Err(r) => refused(r),
     }
 }
 

@@ -419,10 +419,31 @@ fn decode_group_halt(group: String, g: AxesGroupHaltRequest) -> Result<GroupComm
     }))
 }
 
+/// A group motion FB served under `~/groups/<group>/<fb>` both as an action and as a
+/// service of the same name and fields (the goal decodes through the service request).
 macro_rules! group_action {
-    ($binding:ident, $action:ident, $goal:ident, $result:ident, $feedback:ident, $fb:literal, $decode:expr) => {
+    ($binding:ident, $action:ident, $goal:ident, $result:ident, $feedback:ident, $response:ident, $fb:literal, $decode:expr) => {
         struct $binding {
             group: String,
+        }
+
+        impl $binding {
+            fn register(shell: &mut NodeShell<AxisEngine>, group: &str) -> Result<(), ShellError> {
+                group_service(
+                    shell,
+                    group,
+                    $fb,
+                    motion_msgs::srv::$action::service_type_name(),
+                    $decode,
+                    |o, _| respond::<$response>(o),
+                )?;
+                shell.action(
+                    &format!("groups/{group}/{}", $fb),
+                    $binding {
+                        group: group.to_string(),
+                    },
+                )
+            }
         }
 
         impl ActionBinding<AxisEngine> for $binding {
@@ -512,6 +533,7 @@ group_action!(
     MoveLinearAbsoluteGoal,
     MoveLinearAbsoluteResult,
     MoveLinearAbsoluteFeedback,
+    MoveLinearAbsoluteResponse,
     "move_linear_absolute",
     decode_move_linear_absolute
 );
@@ -522,6 +544,7 @@ group_action!(
     MoveLinearRelativeGoal,
     MoveLinearRelativeResult,
     MoveLinearRelativeFeedback,
+    MoveLinearRelativeResponse,
     "move_linear_relative",
     decode_move_linear_relative
 );
@@ -532,6 +555,7 @@ group_action!(
     MovePathGoal,
     MovePathResult,
     MovePathFeedback,
+    MovePathResponse,
     "move_path",
     decode_move_path
 );
@@ -542,6 +566,7 @@ group_action!(
     AxesGroupHaltGoal,
     AxesGroupHaltResult,
     AxesGroupHaltFeedback,
+    AxesGroupHaltResponse,
     "group_halt",
     decode_group_halt
 );
@@ -556,56 +581,10 @@ pub(crate) fn register(
         register_admin(shell, group)?;
         register_reads(shell, group)?;
         register_group_stop(shell, group)?;
-        let g = || group.clone();
-        // Every group motion is also a service (Execute edge; progress on ~/command_status).
-        group_service(
-            shell,
-            group,
-            "move_linear_absolute",
-            motion_msgs::srv::MoveLinearAbsolute::service_type_name(),
-            decode_move_linear_absolute,
-            |o, _| respond::<MoveLinearAbsoluteResponse>(o),
-        )?;
-        group_service(
-            shell,
-            group,
-            "move_linear_relative",
-            motion_msgs::srv::MoveLinearRelative::service_type_name(),
-            decode_move_linear_relative,
-            |o, _| respond::<MoveLinearRelativeResponse>(o),
-        )?;
-        group_service(
-            shell,
-            group,
-            "move_path",
-            motion_msgs::srv::MovePath::service_type_name(),
-            decode_move_path,
-            |o, _| respond::<MovePathResponse>(o),
-        )?;
-        group_service(
-            shell,
-            group,
-            "group_halt",
-            motion_msgs::srv::AxesGroupHalt::service_type_name(),
-            decode_group_halt,
-            |o, _| respond::<AxesGroupHaltResponse>(o),
-        )?;
-        shell.action(
-            &format!("groups/{group}/move_linear_absolute"),
-            MoveLinearAbsoluteAction { group: g() },
-        )?;
-        shell.action(
-            &format!("groups/{group}/move_linear_relative"),
-            MoveLinearRelativeAction { group: g() },
-        )?;
-        shell.action(
-            &format!("groups/{group}/move_path"),
-            MovePathAction { group: g() },
-        )?;
-        shell.action(
-            &format!("groups/{group}/group_halt"),
-            GroupHaltAction { group: g() },
-        )?;
+        MoveLinearAbsoluteAction::register(shell, group)?;
+        MoveLinearRelativeAction::register(shell, group)?;
+        MovePathAction::register(shell, group)?;
+        GroupHaltAction::register(shell, group)?;
         shell.state_publisher(
             &format!("~/groups/{group}/state"),
             AxesGroupState::type_name(),

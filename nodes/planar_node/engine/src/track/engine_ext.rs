@@ -1404,11 +1404,13 @@ impl PlanarEngine {
         let mut dist = vec![f64::INFINITY; n];
         let mut prev = vec![usize::MAX; n];
         let mut done = vec![false; n];
+        // A usable link from `u` to `k`: traversable now, to an Enabled track, never back to
+        // the start track.
+        let usable = |u: usize, k: usize| {
+            k != from && self.tracks[k].sm.state == PlanarState::Enabled && self.traversable(u, k)
+        };
         for &k in &self.tracks[from].next {
-            if k != from
-                && self.tracks[k].sm.state == PlanarState::Enabled
-                && self.traversable(from, k)
-            {
+            if usable(from, k) {
                 dist[k] = 0.0;
                 prev[k] = from;
             }
@@ -1427,12 +1429,7 @@ impl PlanarEngine {
             done[u] = true;
             for &k in &self.tracks[u].next {
                 let d = dist[u] + self.tracks[u].length();
-                if k != from
-                    && !done[k]
-                    && d < dist[k]
-                    && self.tracks[k].sm.state == PlanarState::Enabled
-                    && self.traversable(u, k)
-                {
+                if !done[k] && d < dist[k] && usable(u, k) {
                     dist[k] = d;
                     prev[k] = u;
                 }

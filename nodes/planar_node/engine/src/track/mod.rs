@@ -280,13 +280,6 @@ pub(crate) struct Track {
     pub params: params::TrackParams,
 }
 
-/// Distance beyond which a mover no longer matters at a switch (§5.6.4 automatic range)
-/// \[mm\]. The spec's proposal is 2R (R = half diagonal of the maximal 155 × 155 mm mover,
-/// 219.2 mm); it is enlarged to 2·√2·R + 50 mm so that the no-overlap guard's envelopes
-/// (axis-aligned squares of a rotating mover plus its stop range) of movers on different
-/// branches cannot touch either: a larger range only makes movers wait earlier.
-pub const SWITCH_CLEARANCE: f64 = 2.0 * std::f64::consts::SQRT_2 * 109.600_182_481_601_6 + 50.0;
-
 /// A point where more than two track ends/starts meet (§5.6.4).
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Switch {
@@ -295,10 +288,6 @@ pub(crate) struct Switch {
     /// Tracks starting here.
     pub outgoing: Vec<usize>,
 }
-
-/// Half-width of the tube of a track with the default "Maximal mover width" (155 mm) \[mm\];
-/// per track: [`params::TrackParams::tube_half_width`].
-pub const TUBE_HALF_WIDTH: f64 = 77.5;
 
 impl Track {
     /// Convex pieces covering the tube around the path (§5.11), every ≤ 20 mm.

@@ -40,7 +40,7 @@ impl PlanarEngine {
         }
         let who = self.track_who(k);
         let cs = self.tracks[k].cs;
-        let shift = self.track_shift_now(k);
+        let shift = self.track_shift_at(k, 0);
         let placed: Vec<ConvexPolygon> = tube.iter().map(|q| q.translated(shift)).collect();
         // The stator area of the track's coordinate system (parts at their current positions);
         // an environment without stators is an unbounded plane.
@@ -70,7 +70,7 @@ impl PlanarEngine {
             }
             let (mine, theirs) = self.connections(k, o);
             let other: Vec<ConvexPolygon> = {
-                let sh = self.track_shift_now(o);
+                let sh = self.track_shift_at(o, 0);
                 t.tube.iter().map(|q| q.translated(sh)).collect()
             };
             let (lk, lo) = (self.tracks[k].length(), t.length());
@@ -93,16 +93,11 @@ impl PlanarEngine {
         Ok(())
     }
 
-    /// Shift of track `k`'s stored geometry to its part's current position.
-    fn track_shift_now(&self, k: usize) -> V2 {
-        self.track_shift_at(k, 0)
-    }
-
     /// The exempt stretches of tracks `k` and `o` at the points where their ends meet.
     fn connections(&self, k: usize, o: usize) -> (Vec<Exempt>, Vec<Exempt>) {
         let ends = |t: usize| -> Vec<(bool, V2, f64)> {
             let tr: &Track = &self.tracks[t];
-            let sh = self.track_shift_now(t);
+            let sh = self.track_shift_at(t, 0);
             let margin = 2.0 * tr.params.tube_half_width() + 20.0;
             let mut v = Vec::new();
             if let Some(p) = tr.geo.start_pose() {
