@@ -9,29 +9,13 @@ mod ca_common;
 use axis_engine::ca::geometry::*;
 use axis_engine::ca::types::errors::*;
 use axis_engine::ca::*;
-use axis_engine::{AxisCommand, MoveVelocity};
 use ca_common::*;
 use motion_core::{CmdId, CommandState, Engine};
 
 const TPL: u32 = 0x0101_0010;
 
 fn rig_on(cfg: CaGroupConfig, slave: f64) -> CaRig {
-    let mut r = CaRig::ungrouped(&[("MA", -300.0), ("S", slave)], cfg);
-    r.add("S", 1).unwrap();
-    r.enable();
-    r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
-        axis: "MA".into(),
-        velocity: 500.0,
-        acceleration: 10000.0,
-        deceleration: 10000.0,
-        jerk: 100000.0,
-        direction: axis_engine::Direction::Positive,
-        buffer_mode: axis_engine::BufferMode::Aborting,
-        options: Default::default(),
-    }))
-    .unwrap();
-    r.until(5000, |r| r.e.status("MA").unwrap().set_pos >= 0.0);
-    r
+    gear_rig(cfg, slave)
 }
 
 fn rig() -> CaRig {
@@ -474,17 +458,7 @@ fn dynamics_reference_system_couples_on_the_offset_path() {
 #[test]
 fn restrictions_follow_an_accelerating_master() {
     let speed_up = |r: &mut CaRig| {
-        r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
-            axis: "MA".into(),
-            velocity: 900.0,
-            acceleration: 300.0,
-            deceleration: 300.0,
-            jerk: 100000.0,
-            direction: axis_engine::Direction::Positive,
-            buffer_mode: axis_engine::BufferMode::Aborting,
-            options: Default::default(),
-        }))
-        .unwrap();
+        r.e.command(master_velocity(900.0, 300.0)).unwrap();
     };
     for (ssp, undershoot) in [(1400.0, true), (800.0, false)] {
         let mut r = rig();

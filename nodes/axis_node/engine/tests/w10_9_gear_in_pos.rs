@@ -6,7 +6,7 @@
 mod ca_common;
 use axis_engine::ca::types::errors::*;
 use axis_engine::ca::*;
-use axis_engine::{AxisCommand, MoveVelocity};
+use axis_engine::AxisCommand;
 use ca_common::*;
 use motion_core::{CmdId, CommandState, Engine};
 
@@ -16,22 +16,7 @@ fn rig() -> CaRig {
 }
 
 fn rig_on(cfg: CaGroupConfig, slave: f64) -> CaRig {
-    let mut r = CaRig::ungrouped(&[("MA", -300.0), ("S", slave)], cfg);
-    r.add("S", 1).unwrap();
-    r.enable();
-    r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
-        axis: "MA".into(),
-        velocity: 500.0,
-        acceleration: 10000.0,
-        deceleration: 10000.0,
-        jerk: 100000.0,
-        direction: axis_engine::Direction::Positive,
-        buffer_mode: axis_engine::BufferMode::Aborting,
-        options: Default::default(),
-    }))
-    .unwrap();
-    r.until(5000, |r| r.e.status("MA").unwrap().set_pos >= 0.0);
-    r
+    gear_rig(cfg, slave)
 }
 
 fn gear(r: &mut CaRig, strategy: SyncStrategy, ratio: f64) -> CmdId {
@@ -292,17 +277,7 @@ fn sync_mode_positive_takes_the_next_occurrence_on_a_ring() {
 }
 
 fn accelerate_master(r: &mut CaRig) {
-    r.e.command(AxisCommand::MoveVelocity(MoveVelocity {
-        axis: "MA".into(),
-        velocity: 1500.0,
-        acceleration: 10000.0,
-        deceleration: 10000.0,
-        jerk: 100000.0,
-        direction: axis_engine::Direction::Positive,
-        buffer_mode: axis_engine::BufferMode::Aborting,
-        options: Default::default(),
-    }))
-    .unwrap();
+    r.e.command(master_velocity(1500.0, 10000.0)).unwrap();
 }
 
 fn late(r: &mut CaRig, override_restrictions: bool) -> CmdId {

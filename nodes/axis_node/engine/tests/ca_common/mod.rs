@@ -239,3 +239,28 @@ pub fn open(len: f64) -> CaGroupConfig {
         ..CaGroupConfig::default()
     }
 }
+
+/// MC_MoveVelocity of the master "MA" (positive, deceleration = acceleration, jerk 1e5).
+pub fn master_velocity(velocity: f64, acceleration: f64) -> AxisCommand {
+    AxisCommand::MoveVelocity(MoveVelocity {
+        axis: "MA".into(),
+        velocity,
+        acceleration,
+        deceleration: acceleration,
+        jerk: 100000.0,
+        direction: Direction::Positive,
+        buffer_mode: BufferMode::Aborting,
+        options: Default::default(),
+    })
+}
+
+/// The §10.9 setting: master "MA" outside the group cruising at 500 mm/s and at 0, slave "S"
+/// (at `slave`) the only axis of a group with `cfg`.
+pub fn gear_rig(cfg: CaGroupConfig, slave: f64) -> CaRig {
+    let mut r = CaRig::ungrouped(&[("MA", -300.0), ("S", slave)], cfg);
+    r.add("S", 1).unwrap();
+    r.enable();
+    r.e.command(master_velocity(500.0, 10000.0)).unwrap();
+    r.until(5000, |r| r.e.status("MA").unwrap().set_pos >= 0.0);
+    r
+}
