@@ -119,8 +119,8 @@ tracks:
         }
         s.step();
         let (oa, ob) = (on_track(&s, "A"), on_track(&s, "B"));
-        let a_in = oa.track == "T1" && oa.set_pos > l1 - r1 + 1e-6;
-        let b_in = ob.track == "T2" && ob.set_pos > l2 - r2 + 1e-6;
+        let a_in = in_end_range(&oa, "T1", l1, r1);
+        let b_in = in_end_range(&ob, "T2", l2, r2);
         assert!(!(a_in && b_in), "both in the merge zone: A {oa:?} B {ob:?}");
         if ob.track == "T2" && ob.waiting && ob.set_velo == 0.0 {
             b_waited = true;

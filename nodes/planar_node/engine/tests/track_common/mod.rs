@@ -137,3 +137,9 @@ pub fn circle_loop_named(s: &mut Sim, t: &str, r: f64) {
     s.ok(PlanarCommand::TrackCloseLoop { track: t.into() });
     enable_track(s, t);
 }
+
+/// True if the on-track state is on `track` inside the collision range `range` at the end of
+/// that track (length `length`): the mover's part of a merging switch's zone (§5.6.4).
+pub fn in_end_range(o: &OnTrackSnapshot, track: &str, length: f64, range: f64) -> bool {
+    o.track == track && o.set_pos > length - range + 1e-6
+}
