@@ -93,6 +93,26 @@ pub struct CommandEvent {
     pub state: CommandState,
 }
 
+/// Longest message text a reply carries [bytes]; longer texts end in [`TRUNCATED`].
+pub const MAX_MESSAGE_LEN: usize = 1024;
+
+/// The tail of a capped message.
+pub const TRUNCATED: &str = " ... (truncated)";
+
+/// Caps `text` at [`MAX_MESSAGE_LEN`] bytes (on a character boundary), marking the cut with
+/// [`TRUNCATED`]: echoed input (a bad YAML text, a value) must never make a reply unbounded.
+pub fn cap_message(mut text: String) -> String {
+    if text.len() > MAX_MESSAGE_LEN {
+        let mut cut = MAX_MESSAGE_LEN - TRUNCATED.len();
+        while !text.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        text.truncate(cut);
+        text.push_str(TRUNCATED);
+    }
+    text
+}
+
 /// Why a command was refused at its Execute edge (it never became Busy).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Rejection {
@@ -117,10 +137,12 @@ pub struct ObjectRef {
 
 impl Rejection {
     /// A rejection with an id and a message.
+    /// The message is capped at [`MAX_MESSAGE_LEN`] bytes: it may quote the request (a bad
+    /// YAML text, a value), and a reply must never grow with its input.
     pub fn new(error_id: ErrorId, message: impl Into<String>) -> Self {
         Rejection {
             error_id,
-            message: message.into(),
+            message: cap_message(message.into()),
             object: None,
         }
     }
@@ -152,3 +174,20 @@ impl fmt::Display for Rejection {
 }
 
 impl std::error::Error for Rejection {}
+
+#[cfg(test)]
+mod message_cap_tests {
+    use super::*;
+
+    #[test]
+    fn long_messages_are_capped_on_a_char_boundary() {
+        let long = "ä".repeat(MAX_MESSAGE_LEN); // 2 bytes each
+        let r = Rejection::new(ErrorId(1), long);
+        assert!(r.message.len() <= MAX_MESSAGE_LEN, "{}", r.message.len());
+        assert!(r.message.ends_with(TRUNCATED));
+        let short = Rejection::new(ErrorId(1), "x = NaN");
+        assert_eq!(short.message, "x = NaN");
+        let exact = "a".repeat(MAX_MESSAGE_LEN);
+        assert_eq!(Rejection::new(ErrorId(1), exact.clone()).message, exact);
+    }
+}

@@ -1,0 +1,185 @@
+//! Large messages over our DDS stack (issue 12 §1): service replies and reliable topic samples
+//! of 64 kB, 256 kB and 1 MB, and the sizes around the 64 KiB datagram limit, with both
+//! request/reply mappings. Before the vendored RustDDS fix a reply just under the loopback
+//! datagram budget panicked the participant's event loop (`message.rs:87`); the node then
+//! answered nothing while its process lived on.
+
+use motion_msgs::msg::CommandStatus;
+use motion_msgs::srv::{PickPlaceSetParams, PickPlaceSetParamsRequest, PickPlaceSetParamsResponse};
+use motion_runtime::shell::{create_context, service_qos, topic_qos};
+use ros2_client::{Name, NodeName, NodeOptions, ServiceMapping};
+use std::time::Duration;
+use system_tests::{require_netns, unique_domain, within};
+
+/// The sizes of the payload text [bytes]: around 64 KiB (where one DATA submessage stops
+/// fitting a loopback datagram) and the issue's 64 kB, 256 kB and 1 MB.
+fn sizes() -> Vec<usize> {
+    let mut v: Vec<usize> = (65_200..65_560).step_by(1).collect();
+    v.extend([64_000, 65_536, 70_000, 256_000, 1_000_000]);
+    v
+}
+
+/// A text of `n` bytes that differs per size (a stale reply cannot pass for a fresh one).
+fn text(n: usize) -> String {
+    let mut s: String = (0..n).map(|k| (b'a' + (k % 26) as u8) as char).collect();
+    s.replace_range(0..8, &format!("{:08}", n % 100_000_000));
+    s
+}
+
+async fn echo_replies(mapping: ServiceMapping) {
+    let domain = unique_domain();
+    let sctx = create_context(domain).unwrap();
+    let mut snode = sctx
+        .new_node(
+            NodeName::new("/", "echo_server").unwrap(),
+            NodeOptions::new().enable_rosout(false),
+        )
+        .unwrap();
+    let name = Name::parse("/echo_server/echo").unwrap();
+    let ty = PickPlaceSetParams::service_type_name();
+    let server = snode
+        .create_server::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
+            mapping,
+            &name,
+            &ty,
+            service_qos(),
+            service_qos(),
+        )
+        .unwrap();
+    let sspin = snode.spinner().unwrap();
+    let _sspin = tokio::spawn(async move {
+        let _ = sspin.spin().await;
+    });
+    let serve = tokio::spawn(async move {
+        loop {
+            let (id, req) = server.async_receive_request().await.expect("request");
+            let resp = PickPlaceSetParamsResponse {
+                accepted: true,
+                command_id: req.params.len() as u64,
+                error_id: 0,
+                message: req.params,
+            };
+            server.async_send_response(id, resp).await.expect("reply");
+        }
+    });
+
+    let cctx = create_context(domain).unwrap();
+    let mut cnode = cctx
+        .new_node(
+            NodeName::new("/", "echo_client").unwrap(),
+            NodeOptions::new().enable_rosout(false),
+        )
+        .unwrap();
+    let client = cnode
+        .create_client::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
+            mapping,
+            &name,
+            &ty,
+            service_qos(),
+            service_qos(),
+        )
+        .unwrap();
+    let cspin = cnode.spinner().unwrap();
+    let _cspin = tokio::spawn(async move {
+        let _ = cspin.spin().await;
+    });
+    within(20.0, "echo service", client.wait_for_service(&cnode)).await;
+    tokio::time::sleep(Duration::from_millis(300)).await;
+
+    for n in sizes() {
+        let sent = text(n);
+        let reply = within(10.0, &format!("echo of {n} bytes ({mapping:?})"), async {
+            loop {
+                let id = client
+                    .async_send_request(PickPlaceSetParamsRequest {
+                        params: sent.clone(),
+                    })
+                    .await
+                    .expect("send");
+                match tokio::time::timeout(
+                    Duration::from_secs(2),
+                    client.async_receive_response(id),
+                )
+                .await
+                {
+                    Ok(r) => break r.expect("response"),
+                    Err(_) => continue,
+                }
+            }
+        })
+        .await;
+        assert_eq!(reply.command_id, n as u64);
+        assert!(reply.message == sent, "reply of {n} bytes differs");
+        assert!(!serve.is_finished(), "server task died at {n} bytes");
+    }
+    serve.abort();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn large_service_replies_enhanced() {
+    require_netns();
+    echo_replies(ServiceMapping::Enhanced).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn large_service_replies_cyclone() {
+    require_netns();
+    echo_replies(ServiceMapping::Cyclone).await;
+}
+
+/// Reliable topic samples of every size arrive whole and in order.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn large_reliable_topic_samples() {
+    require_netns();
+    let domain = unique_domain();
+    let pctx = create_context(domain).unwrap();
+    let mut pnode = pctx
+        .new_node(
+            NodeName::new("/", "big_pub").unwrap(),
+            NodeOptions::new().enable_rosout(false),
+        )
+        .unwrap();
+    let name = Name::parse("/big_pub/status").unwrap();
+    let topic = pnode
+        .create_topic(&name, CommandStatus::type_name(), &topic_qos())
+        .unwrap();
+    let publisher = pnode
+        .create_publisher::<CommandStatus>(&topic, None)
+        .unwrap();
+    let pspin = pnode.spinner().unwrap();
+    let _pspin = tokio::spawn(async move {
+        let _ = pspin.spin().await;
+    });
+    let sctx = create_context(domain).unwrap();
+    let mut snode = sctx
+        .new_node(
+            NodeName::new("/", "big_sub").unwrap(),
+            NodeOptions::new().enable_rosout(false),
+        )
+        .unwrap();
+    let stopic = snode
+        .create_topic(&name, CommandStatus::type_name(), &topic_qos())
+        .unwrap();
+    let sub = snode
+        .create_subscription::<CommandStatus>(&stopic, None)
+        .unwrap();
+    let sspin = snode.spinner().unwrap();
+    let _sspin = tokio::spawn(async move {
+        let _ = sspin.spin().await;
+    });
+    within(20.0, "subscriber matched", publisher.wait_for_subscription(&pnode)).await;
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    for n in sizes() {
+        let msg = CommandStatus {
+            command_id: n as u64,
+            message: text(n),
+            ..CommandStatus::default()
+        };
+        publisher.async_publish(msg).await.expect("publish");
+        let (got, _) = within(10.0, &format!("sample of {n} bytes"), sub.async_take())
+            .await
+            .expect("take");
+        assert_eq!(got.command_id, n as u64);
+        assert!(got.message == text(n), "sample of {n} bytes differs");
+    }
+}
