@@ -1,6 +1,8 @@
 //! Helpers of the system tests: the private-network guard, DDS domains, and a ROS client
 //! node (ros2-client on its own loopback-only Context) to drive our nodes over real DDS.
 
+pub mod flood;
+
 use motion_core::Engine;
 use motion_runtime::host::CommonConfig;
 use motion_runtime::shell::{create_context, service_qos, topic_qos};
@@ -21,6 +23,30 @@ pub fn require_netns() {
         Ok("1"),
         "this test opens DDS sockets: run it through scripts/test.sh (or scripts/netns-run cargo test)"
     );
+}
+
+/// The workspace root.
+pub fn workspace() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace")
+        .to_path_buf()
+}
+
+/// `target/<profile>/motion_launch`, next to the running test's `deps/` directory.
+pub fn launcher_bin() -> std::path::PathBuf {
+    let exe = std::env::current_exe().expect("test exe");
+    let bin = exe
+        .parent()
+        .and_then(|d| d.parent())
+        .expect("target dir")
+        .join("motion_launch");
+    assert!(
+        bin.exists(),
+        "{} missing: build the workspace first (scripts/test.sh does)",
+        bin.display()
+    );
+    bin
 }
 
 /// A DDS domain id no other test of this process uses (each test binary is its own process

@@ -26,6 +26,129 @@ fn text(n: usize) -> String {
     s
 }
 
+/// An echo server of `PickPlaceSetParams` (the reply's message is the request's params) and a
+/// client of it, matched; the server counts the requests it read.
+struct Echo {
+    client: ros2_client::Client<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>,
+    served: std::sync::Arc<std::sync::atomic::AtomicUsize>,
+    tasks: Vec<tokio::task::JoinHandle<()>>,
+    _nodes: (ros2_client::Node, ros2_client::Node),
+    _contexts: (ros2_client::Context, ros2_client::Context),
+}
+
+impl Drop for Echo {
+    fn drop(&mut self) {
+        for t in &self.tasks {
+            t.abort();
+        }
+    }
+}
+
+async fn echo(mapping: ServiceMapping) -> Echo {
+    let domain = unique_domain();
+    let sctx = create_context(domain).unwrap();
+    let mut snode = sctx
+        .new_node(
+            NodeName::new("/", "echo_server").unwrap(),
+            NodeOptions::new().enable_rosout(false),
+        )
+        .unwrap();
+    let name = Name::parse("/echo_server/echo").unwrap();
+    let ty = PickPlaceSetParams::service_type_name();
+    let server = snode
+        .create_server::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
+            mapping,
+            &name,
+            &ty,
+            service_qos(),
+            service_qos(),
+        )
+        .unwrap();
+    let sspin = snode.spinner().unwrap();
+    let mut tasks = vec![tokio::spawn(async move {
+        let _ = sspin.spin().await;
+    })];
+    let served = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let count = served.clone();
+    tasks.push(tokio::spawn(async move {
+        loop {
+            let (id, req) = server.async_receive_request().await.expect("request");
+            count.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            let resp = PickPlaceSetParamsResponse {
+                accepted: true,
+                command_id: req.params.len() as u64,
+                error_id: 0,
+                message: req.params,
+            };
+            server.async_send_response(id, resp).await.expect("reply");
+        }
+    }));
+    let cctx = create_context(domain).unwrap();
+    let mut cnode = cctx
+        .new_node(
+            NodeName::new("/", "echo_client").unwrap(),
+            NodeOptions::new().enable_rosout(false),
+        )
+        .unwrap();
+    let client = cnode
+        .create_client::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
+            mapping,
+            &name,
+            &ty,
+            service_qos(),
+            service_qos(),
+        )
+        .unwrap();
+    let cspin = cnode.spinner().unwrap();
+    tasks.push(tokio::spawn(async move {
+        let _ = cspin.spin().await;
+    }));
+    within(20.0, "echo service", client.wait_for_service(&cnode)).await;
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    Echo {
+        client,
+        served,
+        tasks,
+        _nodes: (snode, cnode),
+        _contexts: (sctx, cctx),
+    }
+}
+
+/// A burst of requests written back to back is read whole by the server and answered whole.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_burst_of_requests_is_served_whole() {
+    require_netns();
+    if std::env::var("BURST_LOG").is_ok() {
+        motion_runtime::logging::init();
+    }
+    let e = echo(ServiceMapping::Cyclone).await;
+    let total: usize = std::env::var("BURST_N")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(500);
+    let window: usize = std::env::var("BURST_W")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(500);
+    let n = system_tests::flood::pipelined(
+        &e.client,
+        (0..total).map(|k| PickPlaceSetParamsRequest {
+            params: format!("{k}"),
+        }),
+        window,
+        Duration::from_secs(5),
+        |_| {},
+    )
+    .await;
+    let served = e.served.load(std::sync::atomic::Ordering::SeqCst);
+    assert_eq!(
+        (n.sent, served, n.answered),
+        (total, total, total),
+        "{}",
+        n.summary()
+    );
+}
+
 async fn echo_replies(mapping: ServiceMapping) {
     let domain = unique_domain();
     let sctx = create_context(domain).unwrap();
@@ -167,7 +290,12 @@ async fn large_reliable_topic_samples() {
     let _sspin = tokio::spawn(async move {
         let _ = sspin.spin().await;
     });
-    within(20.0, "subscriber matched", publisher.wait_for_subscription(&pnode)).await;
+    within(
+        20.0,
+        "subscriber matched",
+        publisher.wait_for_subscription(&pnode),
+    )
+    .await;
     tokio::time::sleep(Duration::from_millis(300)).await;
     for n in sizes() {
         let msg = CommandStatus {

@@ -1,32 +1,8 @@
 //! The cyclonedds (Python) peer drives `motion_launch` over real DDS exactly as rclpy on
 //! rmw_cyclonedds_cpp would (issue 2 harness (b)): tests/peer/test_*.py.
 
-use std::path::PathBuf;
 use std::process::Command;
-use system_tests::require_netns;
-
-fn workspace() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace")
-        .to_path_buf()
-}
-
-/// `target/<profile>/motion_launch`, next to this test's `deps/` directory.
-fn launcher() -> PathBuf {
-    let exe = std::env::current_exe().expect("test exe");
-    let bin = exe
-        .parent()
-        .and_then(|d| d.parent())
-        .expect("target dir")
-        .join("motion_launch");
-    assert!(
-        bin.exists(),
-        "{} missing: build the workspace first (scripts/test.sh does)",
-        bin.display()
-    );
-    bin
-}
+use system_tests::{launcher_bin as launcher, require_netns, workspace};
 
 fn run_peer_test(script: &str, domain: u16) {
     require_netns();

@@ -55,6 +55,18 @@ pub trait Engine: Send + 'static {
         None
     }
 
+    /// Fail-safe (README "Operating it"): the node's ROS side is lost, so every moving object
+    /// is brought to a controlled stop with the manual's stop dynamics (axes: MC_Stop with
+    /// the fast deceleration and jerk; movers: Halt; the pick-and-place group: xPathStop).
+    /// The runtime calls it once, then keeps cycling until [`Engine::at_rest`].
+    /// Default: nothing to stop.
+    fn fail_safe_stop(&mut self) {}
+
+    /// True when nothing moves (the fail-safe stop has ended). Default: true.
+    fn at_rest(&self) -> bool {
+        true
+    }
+
     /// A short text for an error id that arises during execution (after the Execute edge),
     /// published with the command status.
     fn error_text(id: ErrorId) -> String {

@@ -251,6 +251,14 @@ impl Engine for Cell {
     type Reply = CellReply;
     type Snapshot = CellSnapshot;
 
+    fn fail_safe_stop(&mut self) {
+        self.engine.fail_safe_stop();
+    }
+
+    fn at_rest(&self) -> bool {
+        self.engine.at_rest()
+    }
+
     fn command(&mut self, cmd: CellCommand) -> Result<CellReply, Rejection> {
         match cmd {
             CellCommand::Engine(c) => {

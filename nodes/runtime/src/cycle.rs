@@ -206,6 +206,10 @@ impl<E: Engine> Controller<E> {
         let wake = Arc::new(Wake::default());
         let labels = Arc::new(CommandRegistry::default());
         let config = Arc::new(config);
+        let failsafe = {
+            let wake = wake.clone();
+            crate::failsafe::register(&config.name, Arc::new(move || wake.notify()))
+        };
         let mut cycle = CycleThread {
             engine,
             rx,
@@ -224,10 +228,12 @@ impl<E: Engine> Controller<E> {
             stop: stop.clone(),
             wake: wake.clone(),
             free_run: false,
+            failsafe,
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
             .spawn(move || {
+                cycle.failsafe.enter_thread();
                 cycle.run();
                 cycle.engine
             })?;
@@ -491,6 +497,8 @@ struct CycleThread<E: Engine> {
     stop: Arc<AtomicBool>,
     wake: Arc<Wake>,
     free_run: bool,
+    /// This cycle's part in the process's fail-safe stop.
+    failsafe: crate::failsafe::Registration,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -502,7 +510,54 @@ impl<E: Engine> CycleThread<E> {
             ClockMode::RealTime => self.run_realtime(),
             ClockMode::Lockstep => self.run_lockstep(),
         }
+        if crate::failsafe::triggered() {
+            self.fail_safe_run();
+        }
         self.publish_stats();
+    }
+
+    /// The fail-safe stop (see [`crate::failsafe`]): the engine's controlled stop, cycled at
+    /// the nominal period in both clock modes (so subscribers see it happen) until it is at
+    /// rest, at most [`crate::failsafe::STOP_WAIT`]; new commands are refused meanwhile. Then
+    /// idles until the process ends.
+    fn fail_safe_run(&mut self) {
+        self.engine.fail_safe_stop();
+        let period = Duration::from_secs_f64(self.config.period);
+        let started = Instant::now();
+        let mut deadline = started;
+        while !self.engine.at_rest() && started.elapsed() < crate::failsafe::STOP_WAIT {
+            deadline += period;
+            crate::rt::wait_until(deadline, Duration::ZERO);
+            self.refuse_commands();
+            self.cycle_once();
+            if self
+                .cycle
+                .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
+            {
+                self.take_snapshot();
+            }
+        }
+        self.take_snapshot();
+        self.failsafe.done.store(true, Ordering::SeqCst);
+        while !self.stop.load(Ordering::Relaxed) {
+            self.refuse_commands();
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Answers every queued request with "not running" (fail-safe: nothing new may start).
+    fn refuse_commands(&mut self) {
+        while let Ok(req) = self.rx.try_recv() {
+            match req {
+                Request::Command { reply, .. } => {
+                    let _ = reply.send(Err(not_running()));
+                }
+                Request::Cancel { reply, .. } => {
+                    let _ = reply.send(Err(not_running()));
+                }
+                Request::Cycle(_) => {}
+            }
+        }
     }
 
     fn run_realtime(&mut self) {
@@ -510,7 +565,7 @@ impl<E: Engine> CycleThread<E> {
         let period = Duration::from_secs_f64(self.config.period);
         let spin = Duration::from_secs_f64(self.config.spin.clamp(0.0, self.config.period));
         let mut deadline = Instant::now() + period;
-        while !self.stop.load(Ordering::Relaxed) {
+        while !self.stop.load(Ordering::Relaxed) && !crate::failsafe::triggered() {
             crate::rt::wait_until(deadline, spin);
             let woke = Instant::now();
             let lateness = woke.saturating_duration_since(deadline);
@@ -545,7 +600,7 @@ impl<E: Engine> CycleThread<E> {
 
     fn run_lockstep(&mut self) {
         let mut pending: Steps = VecDeque::new();
-        while !self.stop.load(Ordering::Relaxed) {
+        while !self.stop.load(Ordering::Relaxed) && !crate::failsafe::triggered() {
             if pending.is_empty() && !self.free_run {
                 self.wake.wait();
                 self.drain_control(&mut pending);

@@ -32,6 +32,9 @@ pub struct CommonConfig {
     /// core per node at 1 kHz buys a wake-up jitter below the kernel's sleep latency; 0 = sleep
     /// only).
     pub spin: f64,
+    /// How long an action keeps an ended goal's result for a client that has not asked for it
+    /// yet [s] (rcl_action's `result_timeout`, default 900 = 15 min); then it is dropped.
+    pub result_timeout: f64,
 }
 
 impl Default for CommonConfig {
@@ -46,6 +49,7 @@ impl Default for CommonConfig {
             service_mapping: "auto".into(),
             queue_capacity: 256,
             spin: 1e-4,
+            result_timeout: 900.0,
         }
     }
 }
@@ -62,6 +66,7 @@ pub const COMMON_KEYS: &[&str] = &[
     "service_mapping",
     "queue_capacity",
     "spin",
+    "result_timeout",
 ];
 
 /// A configuration error: where (file, key) and what is wrong.
@@ -125,6 +130,15 @@ impl CommonConfig {
                 format!("{} s is outside [0, 0.01] s", self.spin),
             ));
         }
+        if !(self.result_timeout.is_finite()
+            && self.result_timeout > 0.0
+            && self.result_timeout <= 86_400.0)
+        {
+            return Err(bad(
+                "result_timeout",
+                format!("{} s is outside (0, 86400] s", self.result_timeout),
+            ));
+        }
         shell::service_mapping(Some(&self.service_mapping))
             .map_err(|e| bad("service_mapping", e.0))?;
         if self.use_sim_time {
@@ -158,6 +172,7 @@ impl CommonConfig {
             service_mapping: shell::service_mapping(Some(&self.service_mapping))?,
             state_rate: self.state_rate,
             lockstep: self.lockstep,
+            result_timeout: std::time::Duration::from_secs_f64(self.result_timeout),
         })
     }
 
@@ -177,6 +192,10 @@ impl CommonConfig {
             (
                 "queue_capacity".into(),
                 ParameterValue::Integer(self.queue_capacity as i64),
+            ),
+            (
+                "result_timeout".into(),
+                ParameterValue::Double(self.result_timeout),
             ),
         ]
     }

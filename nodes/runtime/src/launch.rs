@@ -216,7 +216,10 @@ fn parse_args(usage: &str) -> Result<Args, String> {
 /// The `main` of the launcher and of the node binaries: runs the entries of `kinds` found in
 /// the config (default `default_config`), until Ctrl-C/SIGTERM or `--duration`. Returns the
 /// process exit code (2 for configuration errors).
-pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32 {
+pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str) -> i32 {
+    // Before anything else (README "Operating it"): signals, then the fail-safe panic hook.
+    let shutdown = crate::signals::Shutdown::install(program);
+    crate::failsafe::install(program);
     crate::logging::init();
     let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
@@ -260,8 +263,11 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
         }
     };
     rt.block_on(async move {
-        let mut running = Vec::new();
+        let mut running: Vec<RunningNode> = Vec::new();
         for e in &entries {
+            if shutdown.requested() {
+                break;
+            }
             let kind = kinds
                 .iter()
                 .find(|k| k.kind == e.kind)
@@ -289,11 +295,13 @@ pub fn main_with(program: &str, kinds: &[NodeKind], default_config: &str) -> i32
             println!("{path}: OK ({} nodes)", entries.len());
             return 0;
         }
-        tracing::info!(
-            "{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop",
-            running.len()
-        );
-        wait_for_stop(args.duration).await;
+        if !shutdown.requested() {
+            tracing::info!(
+                "{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop",
+                running.len()
+            );
+            wait_for_stop(&shutdown, args.duration).await;
+        }
         for r in running {
             r.stop().await;
         }
@@ -305,27 +313,15 @@ fn kind_list(kinds: &[NodeKind]) -> String {
     kinds.iter().map(|k| k.kind).collect::<Vec<_>>().join(", ")
 }
 
-async fn wait_for_stop(duration: Option<f64>) {
+async fn wait_for_stop(shutdown: &crate::signals::Shutdown, duration: Option<f64>) {
     let timer = async {
         match duration {
             Some(s) => tokio::time::sleep(Duration::from_secs_f64(s.max(0.0))).await,
             None => std::future::pending().await,
         }
     };
-    #[cfg(unix)]
-    let term = async {
-        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
-            Ok(mut s) => {
-                s.recv().await;
-            }
-            Err(_) => std::future::pending().await,
-        }
-    };
-    #[cfg(not(unix))]
-    let term = std::future::pending::<()>();
     tokio::select! {
-        _ = tokio::signal::ctrl_c() => {}
-        _ = term => {}
+        _ = shutdown.wait() => {}
         _ = timer => {}
     }
 }

@@ -3,7 +3,9 @@
 //! services and actions with the PLCopen handshake, parameters, /diagnostics, /clock, rosout).
 
 pub mod cycle;
+pub mod failsafe;
 pub mod rt;
+pub mod signals;
 pub mod stats;
 
 pub use cycle::{ClockMode, Controller, ControllerHandle, CycleConfig, Stamped};

@@ -123,6 +123,8 @@ pub struct ShellSettings {
     pub state_rate: f64,
     /// Lockstep mode: publish `/clock` and offer `~/step`.
     pub lockstep: bool,
+    /// How long an action keeps an ended goal's result for a client that has not asked yet.
+    pub result_timeout: Duration,
 }
 
 /// Names of the command behind a [`CmdId`], for `~/command_status`.
@@ -232,12 +234,16 @@ fn absolute_name(full: &str) -> Result<Name, ShellError> {
     Name::parse(full).map_err(err("name"))
 }
 
-/// QoS of services and the goal/cancel/result services of actions (ROS 2 defaults).
+/// QoS of services and the goal/cancel/result services of actions: reliable, volatile as the
+/// ROS 2 service default, but keep-all instead of keep-last 10, so a burst of requests is never
+/// dropped inside DDS: every request reaches the node and gets an answer (accepted, or refused
+/// with 0x7F04 when the command queue is full). The reader is drained at once into per-request
+/// tasks, so what it holds stays bounded by the DDS resource limits (8192 samples per writer).
 pub fn service_qos() -> QosProfile {
     use ros2_client::qos::{Durability, History};
     QosProfile::publisher_default()
         .durability(Durability::Volatile)
-        .history(History::KeepLast { depth: 10 })
+        .history(History::KeepAll)
 }
 
 /// QoS of state topics (reliable, volatile, keep last 10: the ROS 2 default profile).
@@ -327,6 +333,9 @@ where
         }));
         self.spawn_command_status(events)?;
         self.spawn_diagnostics()?;
+        if std::env::var("MOTION_FAULT_HOOKS").as_deref() == Ok("1") {
+            self.spawn_fault_hook()?;
+        }
         if self.settings.lockstep {
             self.spawn_clock()?;
             self.spawn_step_service()?;
@@ -393,6 +402,28 @@ where
             }
         });
         Ok(())
+    }
+
+    /// `~/sim/fault` (test-only, `MOTION_FAULT_HOOKS=1`): panics the request handler, i.e. a
+    /// thread of the ROS side, to test the fail-safe stop.
+    fn spawn_fault_hook(&mut self) -> Result<(), ShellError> {
+        use motion_msgs::srv::{SimFault, SimFaultRequest, SimFaultResponse};
+        tracing::warn!(
+            "test fault hooks are on (MOTION_FAULT_HOOKS=1): ~/sim/fault panics the node"
+        );
+        self.service::<SimFaultRequest, SimFaultResponse, _, _>(
+            "sim/fault",
+            SimFault::service_type_name(),
+            |req: SimFaultRequest| async move {
+                if req.thread == "shell" {
+                    panic!("test fault hook: ~/sim/fault {{thread: shell}}");
+                }
+                SimFaultResponse {
+                    accepted: false,
+                    message: format!("thread '{}': only 'shell' is known", req.thread),
+                }
+            },
+        )
     }
 
     fn spawn_diagnostics(&mut self) -> Result<(), ShellError> {
@@ -575,11 +606,22 @@ where
             )
             .map_err(err("action server"))?;
         let server = Arc::new(AsyncActionServer::new(server));
+        server.set_result_timeout(self.settings.result_timeout);
         let binding = Arc::new(binding);
         let book: Arc<GoalBook> = Arc::default();
-        // One result at a time: ros2-client reads result requests from one stream.
-        let result_lock = Arc::new(tokio::sync::Mutex::new(()));
         let feedback_period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(1.0));
+
+        // Result requests, per goal: answered when the goal ends (or at once when it has),
+        // whatever other clients do; results are kept for `result_timeout`.
+        {
+            let server = server.clone();
+            let aname = name.to_string();
+            self.tasks.spawn(async move {
+                if let Err(e) = server.serve_result_requests().await {
+                    tracing::error!("{aname}: result requests cannot be read: {e:?}");
+                }
+            });
+        }
 
         // Cancel requests: the engine applies the command's halt semantics; the goal then
         // ends as Canceled when the engine reports the command aborted.
@@ -652,7 +694,6 @@ where
                 let binding = binding.clone();
                 let handle = handle.clone();
                 let book = book.clone();
-                let result_lock = result_lock.clone();
                 let aname = aname.clone();
                 children.spawn(async move {
                     let goal_id = new_goal.goal_id();
@@ -685,18 +726,9 @@ where
                         .lock()
                         .unwrap_or_else(|e| e.into_inner())
                         .remove(&goal_id);
-                    let _guard = result_lock.lock().await;
-                    match tokio::time::timeout(
-                        Duration::from_secs(60),
-                        server.send_result_response(executing, status, result),
-                    )
-                    .await
-                    {
-                        Ok(Ok(())) => {}
-                        Ok(Err(e)) => tracing::warn!("{aname}: sending the result failed: {e:?}"),
-                        Err(_) => {
-                            tracing::warn!("{aname}: no client asked for the result within 60 s")
-                        }
+                    // Never waits for the client: the result is kept and served per goal.
+                    if let Err(e) = server.send_result_response(executing, status, result).await {
+                        tracing::warn!("{aname}: sending the result failed: {e:?}");
                     }
                 });
             }
@@ -810,7 +842,7 @@ pub trait ActionBinding<E: Engine>: Send + Sync + 'static {
     /// Goal message.
     type Goal: Message + Clone + Send + Sync + 'static;
     /// Result message.
-    type Result: Message + Clone + Send + Sync + 'static;
+    type Result: Message + Clone + Default + Send + Sync + 'static;
     /// Feedback message.
     type Feedback: Message + Send + Sync + 'static;
     /// The ROS action type name.

@@ -2507,6 +2507,25 @@ impl Engine for AxisEngine {
         self.dispatch(cmd)
     }
 
+    /// MC_Stop on every axis with its AxisFastDec/AxisFastJerk (the error reaction's
+    /// dynamics); an axis that cannot take it (disabled, already stopping) is left as it is.
+    fn fail_safe_stop(&mut self) {
+        for i in 0..self.axes.len() {
+            let cfg = &self.axes[i].cfg;
+            let stop = Stop {
+                axis: self.axes[i].name.clone(),
+                deceleration: cfg.fast_deceleration,
+                jerk: cfg.fast_jerk,
+                options: MoveOptions::default(),
+            };
+            let _ = self.dispatch(AxisCommand::Stop(stop));
+        }
+    }
+
+    fn at_rest(&self) -> bool {
+        (0..self.axes.len()).all(|i| self.axis_status(i, false).set_velo == 0.0)
+    }
+
     fn step(&mut self, tick: Tick, events: &mut Vec<CommandEvent>) {
         // A non-positive or non-finite cycle time cannot advance anything (defensive: the
         // runtime always passes the configured period).

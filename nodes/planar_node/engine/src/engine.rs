@@ -2437,6 +2437,25 @@ impl Engine for PlanarEngine {
         self.dispatch(cmd)
     }
 
+    /// `Halt(fb)` of every mover with its default deceleration and jerk (§4.7); a mover that
+    /// cannot take it (not enabled, in error) is left as it is.
+    fn fail_safe_stop(&mut self) {
+        for i in 0..self.movers.len() {
+            let mover = self.movers[i].name.clone();
+            let _ = self.command(PlanarCommand::Halt {
+                mover,
+                constraint: crate::types::DynamicConstraint::default(),
+            });
+        }
+    }
+
+    fn at_rest(&self) -> bool {
+        self.snapshot()
+            .movers
+            .iter()
+            .all(|m| m.set_velo.to_array().iter().all(|v| *v == 0.0))
+    }
+
     fn step(&mut self, tick: Tick, events: &mut Vec<CommandEvent>) {
         let dt = tick.dt;
         self.step_parts(dt);

@@ -2,11 +2,12 @@ use std::{
   collections::{BTreeMap, btree_map::Entry},
   marker::PhantomData,
   sync::Mutex,
+  time::{Duration, Instant},
 };
 
 #[allow(unused_imports)]
 use log::{debug, error, info, warn};
-use futures::{pin_mut, stream::StreamExt};
+
 pub use action_msgs::{CancelGoalRequest, GoalId, GoalInfo, GoalStatusEnum};
 
 use crate::{
@@ -258,11 +259,41 @@ where
   F: Message,
 {
   actionserver: ActionServer<G, R, F>,
-  // goals and result_requests are protected by _synchronous_ Mutex (not async)
+  // goals and results are protected by _synchronous_ Mutex (not async)
   goals: Mutex<BTreeMap<GoalId, AsyncGoal<G>>>,
   finished_goals: Mutex<Vec<GoalId>>,
-  result_requests: Mutex<BTreeMap<GoalId, RmwRequestId>>,
+  // motion-suite patch: results are served per goal (see `serve_result_requests`).
+  results: Mutex<ResultBook<R>>,
 }
+
+/// motion-suite patch: the results of ended goals (kept for `timeout` after the
+/// goal ended, as rcl_action's `result_timeout`) and the result requests of
+/// goals still running, answered when their goal ends. Before, each
+/// `send_result_response` waited on the one result-request stream for its own
+/// goal's request, so a client that never asked for its result held up every
+/// other goal's result, and concurrent waiters lost each other's requests.
+struct ResultBook<R> {
+  ended: BTreeMap<GoalId, (GetResultResponse<R>, Instant)>,
+  waiting: BTreeMap<GoalId, Vec<(RmwRequestId, Instant)>>,
+  timeout: Duration,
+}
+
+impl<R> ResultBook<R> {
+  /// Drops results and waiting requests older than the timeout.
+  fn expire(&mut self, now: Instant) {
+    let timeout = self.timeout;
+    self
+      .ended
+      .retain(|_, (_, at)| now.saturating_duration_since(*at) < timeout);
+    self.waiting.retain(|_, reqs| {
+      reqs.retain(|(_, at)| now.saturating_duration_since(*at) < timeout);
+      !reqs.is_empty()
+    });
+  }
+}
+
+/// rcl_action's default `result_timeout`: 15 minutes.
+pub const DEFAULT_RESULT_TIMEOUT: Duration = Duration::from_secs(15 * 60);
 
 const FINISHED_GOAL_BUFFER_SIZE: usize = 2;
 
@@ -277,7 +308,71 @@ where
       actionserver,
       goals: Mutex::new(BTreeMap::new()),
       finished_goals: Mutex::new(Vec::with_capacity(FINISHED_GOAL_BUFFER_SIZE)),
-      result_requests: Mutex::new(BTreeMap::new()),
+      results: Mutex::new(ResultBook {
+        ended: BTreeMap::new(),
+        waiting: BTreeMap::new(),
+        timeout: DEFAULT_RESULT_TIMEOUT,
+      }),
+    }
+  }
+
+  /// How long the result of an ended goal is kept for a client that has not
+  /// asked for it yet (rcl_action's `result_timeout`, default 15 min).
+  pub fn set_result_timeout(&self, timeout: Duration) {
+    self.results.lock().unwrap().timeout = timeout;
+  }
+
+  /// Number of ended goals whose results are kept (for tests of the bound).
+  pub fn kept_results(&self) -> usize {
+    self.results.lock().unwrap().ended.len()
+  }
+
+  /// Serves the result requests of this action (`get_result`) for ever: a
+  /// request for an ended goal is answered at once, one for a running goal as
+  /// soon as `send_result_response` gives its result, one for an unknown goal
+  /// (never accepted, or its result expired) at once with status UNKNOWN and
+  /// a default result, as rclcpp does. Run it in a task of its own.
+  pub async fn serve_result_requests(&self) -> ReadResult<()>
+  where
+    R: Default + 'static,
+  {
+    loop {
+      let (req_id, GetResultRequest { goal_id }) = self
+        .actionserver
+        .my_result_server
+        .async_receive_request()
+        .await?;
+      let now = Instant::now();
+      // A goal that has not ended yet (its result will come).
+      let known = self.goals.lock().unwrap().get(&goal_id).is_some_and(|g| {
+        matches!(
+          g.status,
+          GoalStatusEnum::Unknown
+            | GoalStatusEnum::Accepted
+            | GoalStatusEnum::Executing
+            | GoalStatusEnum::Canceling
+        )
+      });
+      let answer = {
+        let mut book = self.results.lock().unwrap();
+        book.expire(now);
+        match book.ended.get(&goal_id) {
+          Some((resp, _)) => Some(resp.clone()),
+          None if known => {
+            book.waiting.entry(goal_id).or_default().push((req_id, now));
+            None
+          }
+          None => Some(GetResultResponse {
+            status: GoalStatusEnum::Unknown,
+            result: R::default(),
+          }),
+        }
+      };
+      if let Some(resp) = answer {
+        if let Err(e) = self.actionserver.send_result(req_id, resp) {
+          warn!("Sending the result for goal_id={goal_id:?} failed: {e:?}");
+        }
+      }
     }
   }
 
@@ -527,9 +622,9 @@ where
 
   /// Notify Client that a goal end state was reached and
   /// what was the result of the action.
-  /// This async will not resolve until the action client has requested for the
-  /// result, but the client should request the result as soon as server
-  /// accepts the goal.
+  /// (motion-suite patch) Returns at once: the result is kept for the result
+  /// timeout and sent to every client that asks for it, before or after this
+  /// call, through `serve_result_requests`, which must run.
   // TODO: It is a bit silly that we have to supply a "result" even though
   // goal got canceled. But we have to send something in the ResultResponse.
   // And where does it say that result is not significant if cancelled or
@@ -551,35 +646,6 @@ where
       GoalEndStatus::Canceled => GoalStatusEnum::Canceled,
     };
 
-    // First, we must get a result request.
-    // It may already have been read or not.
-    // We will read these into a buffer, because there may be requests for
-    // other goals' results also.
-    let req_id_opt = self
-      .result_requests
-      .lock()
-      .unwrap()
-      .get(&handle.inner.goal_id)
-      .cloned();
-    // Binding `req_id_opt` above is used to drop the lock immediately.
-    let req_id = match req_id_opt {
-      Some(req_id) => req_id,
-      None => {
-        let res_reqs = self.actionserver.my_result_server.receive_request_stream();
-        pin_mut!(res_reqs);
-        loop {
-          // result request was not yet here. Keep receiving until we get it.
-          let (req_id, GetResultRequest { goal_id }) = res_reqs.select_next_some().await?;
-          if goal_id == handle.inner.goal_id {
-            break req_id;
-          } else {
-            self.result_requests.lock().unwrap().insert(goal_id, req_id);
-            debug!("Got result request for goal_id={goal_id:?} req_id={req_id:?}");
-            // and loop to wait for the next
-          }
-        }
-      }
-    };
     let ret_value = match self.goals.lock().unwrap().entry(handle.inner.goal_id) {
       Entry::Vacant(_) => Err(GoalError::NoSuchGoal),
       Entry::Occupied(o) => {
@@ -600,17 +666,27 @@ where
             ..
           } => {
             o.into_mut().status = result_status;
-            self.actionserver.send_result(
-              req_id,
-              GetResultResponse {
-                status: result_status,
-                result,
-              },
-            )?;
-            debug!(
-              "Send result for goal_id={:?}  req_id={:?}",
-              handle.inner.goal_id, req_id
-            );
+            // motion-suite patch: keep the result and answer the requests that
+            // wait for it; later requests are answered by
+            // `serve_result_requests`. Never waits for a client.
+            let resp = GetResultResponse {
+              status: result_status,
+              result,
+            };
+            let now = Instant::now();
+            let waiting = {
+              let mut book = self.results.lock().unwrap();
+              book.expire(now);
+              book.ended.insert(handle.inner.goal_id, (resp.clone(), now));
+              book.waiting.remove(&handle.inner.goal_id).unwrap_or_default()
+            };
+            for (req_id, _) in waiting {
+              self.actionserver.send_result(req_id, resp.clone())?;
+              debug!(
+                "Send result for goal_id={:?}  req_id={:?}",
+                handle.inner.goal_id, req_id
+              );
+            }
             Ok(())
           }
           AsyncGoal {

@@ -187,14 +187,23 @@ impl TopicCache {
     // Look up some Topic-specific resource limit
     // and remove earliest samples until we are within limit.
     // This prevents cache from growing indefinitely.
+    // motion-suite patch: KeepAll without ResourceLimits gets the writer's
+    // default bound (DEFAULT_WRITER_MAX_SAMPLES) instead of 64. With 64, a burst
+    // of more than 64 reliable samples (e.g. service requests from pipelining
+    // clients) was evicted from the cache before the DataReader took it, after
+    // the writer had been acknowledged: lost for good, against KeepAll.
+    let default_max = match min_keep_samples {
+      History::KeepAll => crate::rtps::constant::DEFAULT_WRITER_MAX_SAMPLES as i32,
+      History::KeepLast { .. } => 64,
+    };
     let max_keep_samples = qos
       .resource_limits()
       .unwrap_or(ResourceLimits {
         // This is some default limits out of the hat, if there was no QoS specification.
         // The purpose of these limits is to prevent excessive memory usage.
-        max_samples: 64,
+        max_samples: default_max,
         max_instances: 64,
-        max_samples_per_instance: 64,
+        max_samples_per_instance: default_max,
       })
       .max_samples;
     // TODO: We cannot currently keep track of instance counts, because TopicCache

@@ -7,6 +7,18 @@ impl Engine for PickPlaceEngine {
     type Reply = CmdId;
     type Snapshot = PickPlaceSnapshot;
 
+    /// `xPathStop` (§9): the group stops on its path with the path deceleration.
+    fn fail_safe_stop(&mut self) {
+        let _ = self.command(PickPlaceCommand::SetStopInputs(StopInputs {
+            path_stop: Some(true),
+            ..StopInputs::default()
+        }));
+    }
+
+    fn at_rest(&self) -> bool {
+        self.standstill()
+    }
+
     fn command(&mut self, cmd: PickPlaceCommand) -> Result<CmdId, Rejection> {
         use PickPlaceCommand as C;
         // Internal Control (§3.1 proposal): only the HMI drives the TM; xStopALL always acts.
