@@ -22,13 +22,30 @@ macro_rules! socketpair_bridge {
       #[cfg(not(target_os = "windows"))]
       use socketpair::{socketpair_stream, SocketpairStream};
 
+      // motion-suite patch: the socketpair is made only when the Source is first
+      // registered with a mio Poll. Before, every DataReader and status channel
+      // made one (two, with mio_08) at creation, whether or not anybody polled it:
+      // a node with a few hundred services held ~2000 sockets and did not start
+      // under the common `ulimit -n 1024`. Events sent before registration are
+      // remembered and signalled at registration.
+      struct Pair {
+        rec: $mio::net::TcpStream,
+        send: $mio::net::TcpStream,
+      }
+
+      #[derive(Default)]
+      struct Shared {
+        pair: Mutex<Option<Pair>>,
+        pending: std::sync::atomic::AtomicBool,
+      }
+
       pub struct Source {
-        rec: Mutex<$mio::net::TcpStream>,
+        shared: Arc<Shared>,
       }
 
       #[derive(Clone)]
       pub struct Sender {
-        send: Arc<Mutex<$mio::net::TcpStream>>,
+        shared: Arc<Shared>,
       }
 
       #[cfg(not(target_os = "windows"))]
@@ -40,25 +57,18 @@ macro_rules! socketpair_bridge {
       }
 
       #[cfg(not(target_os = "windows"))]
-      pub fn make() -> io::Result<(Source, Sender)> {
+      fn make_pair() -> io::Result<Pair> {
         let (rec_sps, send_sps) = socketpair_stream()?;
         let rec_sps = set_non_blocking(rec_sps)?;
         let send_sps = set_non_blocking(send_sps)?;
         let rec = $mio::net::TcpStream::from_std(std::net::TcpStream::from(OwnedFd::from(rec_sps)));
         let send =
           $mio::net::TcpStream::from_std(std::net::TcpStream::from(OwnedFd::from(send_sps)));
-        Ok((
-          Source {
-            rec: Mutex::new(rec),
-          },
-          Sender {
-            send: Arc::new(Mutex::new(send)),
-          },
-        ))
+        Ok(Pair { rec, send })
       }
 
       #[cfg(target_os = "windows")]
-      pub fn make() -> io::Result<(Source, Sender)> {
+      fn make_pair() -> io::Result<Pair> {
         let listener = $mio::net::TcpListener::bind("127.0.0.1:0".parse().unwrap())?;
         let addr = listener.local_addr()?;
         let rec = $mio::net::TcpStream::connect(addr)?;
@@ -69,29 +79,49 @@ macro_rules! socketpair_bridge {
         }
         let (send, _addr_send) = accepted?;
         debug!("IPC socket: {addr:#?} <-> {_addr_send:#?}");
+        Ok(Pair { rec, send })
+      }
+
+      pub fn make() -> io::Result<(Source, Sender)> {
+        let shared = Arc::new(Shared::default());
         Ok((
           Source {
-            rec: Mutex::new(rec),
+            shared: shared.clone(),
           },
-          Sender {
-            send: Arc::new(Mutex::new(send)),
-          },
+          Sender { shared },
         ))
+      }
+
+      fn signal(pair: &mut Pair) {
+        match pair.send.write(&[0xcc]) {
+          Ok(_b) => {}
+          Err(e) => info!("PollEventSender.send: {e}"),
+        }
       }
 
       impl Sender {
         pub fn send(&self) {
-          match self.send.lock().unwrap().write(&[0xcc]) {
-            Ok(_b) => {}
-            Err(e) => info!("PollEventSender.send: {e}"),
+          let mut pair = self.shared.pair.lock().unwrap();
+          match pair.as_mut() {
+            Some(p) => signal(p),
+            None => self
+              .shared
+              .pending
+              .store(true, std::sync::atomic::Ordering::SeqCst),
           }
         }
       }
 
       impl Source {
         pub fn drain(&self) {
+          self
+            .shared
+            .pending
+            .store(false, std::sync::atomic::Ordering::SeqCst);
+          let mut pair = self.shared.pair.lock().unwrap();
+          let Some(p) = pair.as_mut() else { return };
           let mut buf = Vec::with_capacity(16);
-          match self.rec.lock().unwrap().read_to_end(&mut buf) {
+          match p.rec.read_to_end(&mut buf) {
             Ok(_) => (),
             Err(err) => match err.kind() {
               io::ErrorKind::WouldBlock => {}
@@ -108,10 +138,22 @@ macro_rules! socketpair_bridge {
           token: $mio::Token,
           interests: $mio::Interest,
         ) -> io::Result<()> {
-          self
+          let mut pair = self.shared.pair.lock().unwrap();
+          if pair.is_none() {
+            let mut p = make_pair()?;
+            if self
+              .shared
+              .pending
+              .swap(false, std::sync::atomic::Ordering::SeqCst)
+            {
+              signal(&mut p);
+            }
+            *pair = Some(p);
+          }
+          pair
+            .as_mut()
+            .expect("made above")
             .rec
-            .lock()
-            .unwrap()
             .register(registry, token, interests)
         }
 
@@ -121,15 +163,21 @@ macro_rules! socketpair_bridge {
           token: $mio::Token,
           interests: $mio::Interest,
         ) -> io::Result<()> {
-          self
-            .rec
-            .lock()
-            .unwrap()
-            .reregister(registry, token, interests)
+          let registered = self.shared.pair.lock().unwrap().is_some();
+          if !registered {
+            return self.register(registry, token, interests);
+          }
+          match self.shared.pair.lock().unwrap().as_mut() {
+            Some(p) => p.rec.reregister(registry, token, interests),
+            None => Ok(()),
+          }
         }
 
         fn deregister(&mut self, registry: &$mio::Registry) -> io::Result<()> {
-          self.rec.lock().unwrap().deregister(registry)
+          match self.shared.pair.lock().unwrap().as_mut() {
+            Some(p) => p.rec.deregister(registry),
+            None => Ok(()),
+          }
         }
       }
     }
