@@ -41,3 +41,10 @@ fn cyclonedds_peer_drives_planar_node() {
 fn cyclonedds_peer_drives_pickplace_node() {
     run_peer_test("test_pickplace_node.py", 203);
 }
+
+/// Issue 12 §4: a fresh client's (and a fresh participant's) first call is answered within
+/// 100 ms, 100 of 100 trials.
+#[test]
+fn cyclonedds_peer_first_call_of_a_fresh_client_is_answered_at_once() {
+    run_peer_test("test_first_call.py", 204);
+}

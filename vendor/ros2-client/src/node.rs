@@ -869,6 +869,13 @@ impl Node {
     }
   }
 
+  /// motion-suite patch: the local writers' matched remote readers (kept by the
+  /// spinner), for servers that must not reply before the requester's reader
+  /// is matched.
+  pub(crate) fn matched_readers_map(&self) -> Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>> {
+    Arc::clone(&self.writers_to_remote_readers)
+  }
+
   // reader waits for at least one writer to be present
   pub(crate) fn wait_for_writer(&self, reader: GUID) -> impl Future<Output = ()> {
     // Register the event receiver *before* reading the current match state, so

@@ -342,6 +342,8 @@ where
         .my_result_server
         .async_receive_request()
         .await?;
+      // Its client got the goal response already (which waited for the match).
+      self.actionserver.my_result_server.forget_requester(req_id);
       let now = Instant::now();
       // A goal that has not ended yet (its result will come).
       let known = self.goals.lock().unwrap().get(&goal_id).is_some_and(|g| {
@@ -492,13 +494,19 @@ where
     // because we are holding lock to self there.
     if result.is_ok() {
       self.publish_statuses().await;
-      self.actionserver.my_goal_server.send_response(
-        handle.req_id,
-        SendGoalResponse {
-          accepted: true,
-          stamp: now,
-        },
-      )?;
+      // motion-suite patch: async, so the response waits for a fresh client's
+      // reply reader to be matched (Server::wait_for_requester).
+      self
+        .actionserver
+        .my_goal_server
+        .async_send_response(
+          handle.req_id,
+          SendGoalResponse {
+            accepted: true,
+            stamp: now,
+          },
+        )
+        .await?;
     }
     result
   }
@@ -539,13 +547,17 @@ where
     };
 
     if result.is_ok() {
-      self.actionserver.my_goal_server.send_response(
-        handle.req_id,
-        SendGoalResponse {
-          accepted: false,
-          stamp: builtin_interfaces::Time::now(),
-        },
-      )?;
+      self
+        .actionserver
+        .my_goal_server
+        .async_send_response(
+          handle.req_id,
+          SendGoalResponse {
+            accepted: false,
+            stamp: builtin_interfaces::Time::now(),
+          },
+        )
+        .await?;
     }
 
     result

@@ -9,6 +9,11 @@ use rustdds::{rpc::*, *};
 #[allow(unused_imports)]
 use log::{debug, error, info, warn};
 use futures::{StreamExt, pin_mut, stream::FusedStream};
+use std::{
+  collections::{BTreeMap, BTreeSet},
+  sync::{Arc, Mutex},
+  time::{Duration, Instant},
+};
 
 use crate::{
   error::{CreateResult, ReadError, ReadResult, WriteError, WriteResult},
@@ -30,6 +35,31 @@ where
   service_mapping: ServiceMapping,
   request_receiver: SimpleDataReaderR<RequestWrapper<Req>>,
   response_sender: DataWriterR<ResponseWrapper<Resp>>,
+  // motion-suite patch: see `wait_for_requester`.
+  matched_readers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
+  requesters: Mutex<BTreeMap<RmwRequestId, GUID>>,
+}
+
+/// motion-suite patch: longest a reply waits for the requester's reply reader
+/// to be matched (rmw_fastrtps and rmw_cyclonedds wait likewise).
+pub const REPLY_MATCH_WAIT: Duration = Duration::from_millis(500);
+
+/// Requests whose requester is remembered; beyond this the oldest are
+/// forgotten (their replies then go out without waiting).
+const MAX_REMEMBERED_REQUESTERS: usize = 16_384;
+
+/// True when `writer` has a matched remote reader in the participant of
+/// `requester` (the request's writer).
+fn reader_of_matched(
+  map: &Mutex<BTreeMap<GUID, BTreeSet<GUID>>>,
+  writer: GUID,
+  requester: GUID,
+) -> bool {
+  map
+    .lock()
+    .unwrap()
+    .get(&writer)
+    .is_some_and(|readers| readers.iter().any(|r| r.prefix == requester.prefix))
 }
 
 impl<Req, Resp> Server<Req, Resp>
@@ -65,7 +95,55 @@ where
       service_mapping,
       request_receiver,
       response_sender,
+      matched_readers: node.matched_readers_map(),
+      requesters: Mutex::new(BTreeMap::new()),
     })
+  }
+
+  /// Remembers the participant of a request's writer (its reply reader lives
+  /// there).
+  fn note_requester(&self, id: RmwRequestId, mi: &MessageInfo) {
+    let mut m = self.requesters.lock().unwrap();
+    if m.len() >= MAX_REMEMBERED_REQUESTERS {
+      m.pop_first();
+    }
+    m.insert(id, GUID::from(mi.publisher_gid()));
+  }
+
+  /// Forgets the requester of `id` (its reply goes out without waiting).
+  pub fn forget_requester(&self, id: RmwRequestId) {
+    self.requesters.lock().unwrap().remove(&id);
+  }
+
+  /// motion-suite patch: waits (at most [`REPLY_MATCH_WAIT`]) until the reply
+  /// writer has matched a reader of the participant that sent request `id`.
+  /// A fresh client sends its request as soon as *it* sees the server's
+  /// endpoints; this server may not have discovered the client's reply reader
+  /// yet, and a volatile reply written before that match never reaches it: the
+  /// first call of every fresh participant (each `ros2 service call`) was lost
+  /// or answered only at a later heartbeat. Returns at once when matched.
+  pub async fn wait_for_requester(&self, id: RmwRequestId) {
+    let Some(prefix) = self.requesters.lock().unwrap().remove(&id) else {
+      return;
+    };
+    let writer = self.response_sender.guid();
+    if reader_of_matched(&self.matched_readers, writer, prefix) {
+      return;
+    }
+    let map = Arc::clone(&self.matched_readers);
+    let (tx, rx) = futures::channel::oneshot::channel::<()>();
+    // No timer in this crate's runtime-agnostic API: a short-lived thread polls.
+    std::thread::spawn(move || {
+      let end = Instant::now() + REPLY_MATCH_WAIT;
+      while !reader_of_matched(&map, writer, prefix) && Instant::now() < end {
+        std::thread::sleep(Duration::from_millis(1));
+      }
+      let _ = tx.send(());
+    });
+    let _ = rx.await;
+    if !reader_of_matched(&self.matched_readers, writer, prefix) {
+      debug!("reply to {id:?}: requester's reader not matched, sending anyway");
+    }
   }
 
   /// Receive a request from Client.
@@ -81,6 +159,7 @@ where
         let mi = MessageInfo::from(&dcc);
         let req_wrapper = dcc.into_value();
         let (ri, req) = req_wrapper.unwrap(self.service_mapping, &mi)?;
+        self.note_requester(ri, &mi);
         Ok(Some((ri, req)))
       }
     } // match
@@ -123,6 +202,7 @@ where
         let mi = MessageInfo::from(&dcc);
         let req_wrapper = dcc.into_value();
         let (ri, req) = req_wrapper.unwrap(self.service_mapping, &mi)?;
+        self.note_requester(ri, &mi);
         debug!("async_receive_request: {ri:?}");
         Ok((ri, req))
       }
@@ -145,7 +225,11 @@ where
             let mi = MessageInfo::from(&dcc);
             let req_wrapper = dcc.into_value();
             debug!("receive_request_stream: messageinfo={mi:?}");
-            req_wrapper.unwrap(self.service_mapping, &mi)
+            let r = req_wrapper.unwrap(self.service_mapping, &mi);
+            if let Ok((ri, _)) = &r {
+              self.note_requester(*ri, &mi);
+            }
+            r
           }
         } // match
       }, // async
@@ -158,6 +242,7 @@ where
     rmw_req_id: RmwRequestId,
     response: Resp,
   ) -> WriteResult<(), ()> {
+    self.wait_for_requester(rmw_req_id).await;
     let resp_wrapper = ResponseWrapper::<Resp>::new(
       self.service_mapping,
       rmw_req_id,
