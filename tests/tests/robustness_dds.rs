@@ -6,41 +6,18 @@
 //! - bursts of service requests and action goals all get an answer (§3).
 
 use axis_engine::{AxisCommand, BufferMode, MoveAbsolute, MoveOptions};
-use axis_node::AxisNode;
 use motion_msgs::action::{
     MoveAbsolute as MoveAbsoluteAction, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult,
 };
 use motion_msgs::srv::{
-    self, MoveAbsoluteRequest, MoveAbsoluteResponse, PickPlaceSetParams, PickPlaceSetParamsRequest,
-    PickPlaceSetParamsResponse, Power, PowerRequest, PowerResponse, ReadStatus, ReadStatusRequest,
-    ReadStatusResponse, SubmitBatch, SubmitBatchRequest, SubmitBatchResponse,
+    PickPlaceSetParams, PickPlaceSetParamsRequest, PickPlaceSetParamsResponse, Power, PowerRequest,
+    PowerResponse, SubmitBatch, SubmitBatchRequest, SubmitBatchResponse,
 };
-use ros2_client::action::{GetResultRequest, GoalId, SendGoalRequest};
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
 use std::time::{Duration, Instant};
-use system_tests::flood::{pipelined, FloodCount};
+use system_tests::flood::{axis_node, goal_burst, move_goal, pipelined, service_flood, QUEUE_FULL};
 use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
-
-const QUEUE_FULL: u32 = 0x7F04;
-
-const AXES: &str = "axes:\n  x:\n    max_velocity: 1000.0\n    acceleration: 10000.0\n    deceleration: 10000.0\n    jerk: 100000.0\n";
-
-fn axis_node(domain: u16, result_timeout: f64) -> AxisNode {
-    let cfg: serde_yaml::Value = serde_yaml::from_str(AXES).unwrap();
-    let mut c = common("axis_node", true, ServiceMapping::Cyclone);
-    c.result_timeout = result_timeout;
-    axis_node::start(&c, cfg, "test", domain).expect("axis node")
-}
-
-fn move_goal(position: f64) -> MoveAbsoluteGoal {
-    MoveAbsoluteGoal {
-        axis: "x".into(),
-        position,
-        velocity: 500.0,
-        ..Default::default()
-    }
-}
 
 /// §1: a refusal never echoes a 66 kB input whole, and the node keeps answering; a long
 /// legitimate reply (2000 refused batch orders) arrives whole.
@@ -251,66 +228,6 @@ async fn back_to_back_requests_are_all_answered() {
     assert_eq!((n.sent, n.lost()), (200, 0), "{}", n.summary());
 }
 
-/// §3: 4 clients x `calls` pipelined calls to a read service and to a motion service; every
-/// request answered (accepted, refused by the engine, or 0x7F04 queue full), none lost.
-pub async fn service_flood(calls: usize, window: usize) -> (FloodCount, FloodCount) {
-    let domain = unique_domain();
-    let node = axis_node(domain, 900.0);
-    let _driver = drive(&node, 5);
-    let mut read = FloodCount::default();
-    let mut motion = FloodCount::default();
-    let mut tasks = Vec::new();
-    for k in 0..4 {
-        tasks.push(tokio::spawn(async move {
-            let mut c = ClientNode::new(domain, &format!("flood_{k}"), ServiceMapping::Cyclone);
-            let rs = c
-                .client::<ReadStatusRequest, ReadStatusResponse>(
-                    "/axis_node/read_status",
-                    ReadStatus::service_type_name(),
-                )
-                .await;
-            let mv = c
-                .client::<MoveAbsoluteRequest, MoveAbsoluteResponse>(
-                    "/axis_node/move_absolute",
-                    srv::MoveAbsolute::service_type_name(),
-                )
-                .await;
-            let r = pipelined(
-                &rs,
-                (0..calls).map(|_| ReadStatusRequest { axis: "x".into() }),
-                window,
-                Duration::from_secs(10),
-                |r: &ReadStatusResponse| {
-                    assert!(r.accepted || r.error_id == QUEUE_FULL, "read_status {r:?}")
-                },
-            )
-            .await;
-            let m = pipelined(
-                &mv,
-                (0..calls).map(|i| MoveAbsoluteRequest {
-                    axis: "x".into(),
-                    position: i as f64,
-                    velocity: 10.0,
-                    ..Default::default()
-                }),
-                window,
-                Duration::from_secs(10),
-                // The axis is not powered: the engine refuses with its id; a full queue
-                // refuses with 0x7F04. Both are answers.
-                |r: &MoveAbsoluteResponse| assert!(r.error_id != 0 || r.accepted),
-            )
-            .await;
-            (r, m)
-        }));
-    }
-    for t in tasks {
-        let (r, m) = t.await.unwrap();
-        read.merge(r);
-        motion.merge(m);
-    }
-    (read, motion)
-}
-
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn four_clients_flooding_services_lose_nothing() {
     require_netns();
@@ -327,54 +244,6 @@ async fn four_clients_flooding_services_lose_nothing() {
         "{}",
         motion.summary()
     );
-}
-
-/// §3: `goals` action goals sent at once by one client (keep-all QoS): every goal answered,
-/// every accepted goal ended with a result. Returns (goal answers, results).
-pub async fn goal_burst(goals: usize) -> (FloodCount, FloodCount) {
-    let domain = unique_domain();
-    let node = axis_node(domain, 900.0);
-    let _driver = drive(&node, 5);
-    let mut c = ClientNode::new(domain, "burst", ServiceMapping::Cyclone);
-    let ac = c
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
-            "/axis_node/move_absolute",
-            &MoveAbsoluteAction::action_type_name(),
-        )
-        .await;
-    let ids: Vec<GoalId> = (0..goals).map(|_| GoalId::new_random()).collect();
-    let mut accepted = 0;
-    let sent = pipelined(
-        ac.goal_client(),
-        ids.iter().map(|&goal_id| SendGoalRequest {
-            goal_id,
-            goal: move_goal(5.0),
-        }),
-        goals,
-        Duration::from_secs(20),
-        |r| accepted += usize::from(r.accepted),
-    )
-    .await;
-    assert_eq!(
-        accepted, sent.answered,
-        "every goal is accepted (screening ends it)"
-    );
-    let mut ended = 0;
-    let results = pipelined(
-        ac.result_client(),
-        ids.iter().map(|&goal_id| GetResultRequest { goal_id }),
-        goals,
-        Duration::from_secs(20),
-        |r| {
-            ended += usize::from(matches!(
-                r.status,
-                GoalStatusEnum::Aborted | GoalStatusEnum::Succeeded
-            ))
-        },
-    )
-    .await;
-    assert_eq!(ended, results.answered, "a result that is no end status");
-    (sent, results)
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

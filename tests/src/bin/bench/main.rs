@@ -69,6 +69,7 @@ fn main() {
             "tracks",
             "pickplace",
             "ruckig",
+            "flood",
         ]
         .contains(&a.as_str())
     });
@@ -84,6 +85,16 @@ fn main() {
             std::process::exit(2);
         }
         roundtrip(if smoke { 200 } else { 2000 });
+    }
+    if all || args.iter().any(|a| a == "flood") {
+        if std::env::var("MOTION_IN_NETNS").as_deref() != Ok("1") {
+            eprintln!("flood: run inside scripts/netns-run (it opens DDS sockets)");
+            std::process::exit(2);
+        }
+        flood(
+            if smoke { 500 } else { 5000 },
+            if smoke { 200 } else { 2000 },
+        );
     }
     if all || args.iter().any(|a| a == "axis") {
         axis_step_cost(
@@ -486,5 +497,32 @@ fn roundtrip(n: usize) {
         drop(c);
         drop(bare);
         node.stop().await;
+    });
+}
+
+/// `bench flood` (issue 12 §3): 4 clients x `calls` pipelined calls (64 in flight each) to a
+/// read service and to a motion service of an axis node, and `goals` action goals sent at once
+/// by one client. Prints what was sent, answered and lost, and the latencies (quantised to
+/// about 1 ms by the clients' polling). Lost must be 0.
+fn flood(calls: usize, goals: usize) {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("rt");
+    rt.block_on(async {
+        let (read, motion) = system_tests::flood::service_flood(calls, 64).await;
+        println!("flood: 4 clients x {calls} calls, 64 in flight each");
+        println!("  read_status    {}", read.summary());
+        println!("  move_absolute  {}", motion.summary());
+        let (sent, results) = system_tests::flood::goal_burst(goals).await;
+        println!("flood: {goals} action goals at once (move_absolute)");
+        println!("  goals          {}", sent.summary());
+        println!("  results        {}", results.summary());
+        let lost = read.lost() + motion.lost() + sent.lost() + results.lost();
+        println!(
+            "  lost requests: {lost}, goals without result: {}",
+            results.lost()
+        );
     });
 }
