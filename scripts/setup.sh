@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what the demo and the tests need, only what is missing (idempotent):
-# Debian packages (ROS's interface parser, iproute2 for the private network namespace),
+# Debian packages (ROS's interface parser, iproute2 for the private network namespace,
+# nftables for the lossy-link tests),
 # Python packages (cyclonedds: an independent DDS peer; ruckig: trajectory oracle; pyyaml).
 set -euo pipefail
 SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
@@ -9,6 +10,7 @@ need_apt=()
 /usr/bin/python3 -c "import rosidl_adapter.parser" 2>/dev/null || need_apt+=(python3-rosidl)
 command -v ip >/dev/null || need_apt+=(iproute2)
 command -v unshare >/dev/null || need_apt+=(util-linux)
+command -v nft >/dev/null || need_apt+=(nftables)   # lossy-link tests inside the namespace
 if [ ${#need_apt[@]} -gt 0 ]; then
   echo "setup: installing Debian packages: ${need_apt[*]}"
   $SUDO apt-get update -qq

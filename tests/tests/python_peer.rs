@@ -5,9 +5,23 @@ use std::process::Command;
 use system_tests::{launcher_bin as launcher, require_netns, workspace};
 
 fn run_peer_test(script: &str, domain: u16) {
+    run_peer_test_with(script, domain, None)
+}
+
+/// Runs a peer script; with `loss` (percent) inside a nested namespace that drops that share
+/// of UDP packets (scripts/netns-lossy).
+fn run_peer_test_with(script: &str, domain: u16, loss: Option<u32>) {
     require_netns();
     let python = std::env::var("MOTION_PYTHON").unwrap_or_else(|_| "python3".into());
-    let out = Command::new(&python)
+    let mut cmd = match loss {
+        None => Command::new(&python),
+        Some(p) => {
+            let mut c = Command::new(workspace().join("scripts/netns-lossy"));
+            c.arg(p.to_string()).arg(&python);
+            c
+        }
+    };
+    let out = cmd
         .arg(workspace().join("tests/peer").join(script))
         .env("MOTION_LAUNCH_BIN", launcher())
         .env("ROS_DOMAIN_ID", domain.to_string())
@@ -47,4 +61,16 @@ fn cyclonedds_peer_drives_pickplace_node() {
 #[test]
 fn cyclonedds_peer_first_call_of_a_fresh_client_is_answered_at_once() {
     run_peer_test("test_first_call.py", 204);
+}
+
+/// Issue 12 §1: a 1 MB state topic and 100 kB / 385 kB service replies between the node and
+/// the cyclonedds peer, on a clean link and on one that loses 5 % of UDP packets.
+#[test]
+fn cyclonedds_peer_large_messages() {
+    run_peer_test("test_large_messages.py", 205);
+}
+
+#[test]
+fn cyclonedds_peer_large_messages_over_a_lossy_link() {
+    run_peer_test_with("test_large_messages.py", 206, Some(5));
 }
