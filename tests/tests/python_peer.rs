@@ -74,3 +74,9 @@ fn cyclonedds_peer_large_messages() {
 fn cyclonedds_peer_large_messages_over_a_lossy_link() {
     run_peer_test_with("test_large_messages.py", 206, Some(5));
 }
+
+/// Issue 12 §6: malformed CDR on a request topic is dropped; the node keeps serving.
+#[test]
+fn cyclonedds_peer_malformed_requests_are_dropped() {
+    run_peer_test("test_malformed_cdr.py", 207);
+}
