@@ -21,11 +21,20 @@ pub const QUEUE_FULL: u32 = 0x7F04;
 
 /// An axis node (one axis `x`, lockstep, Cyclone mapping) for floods.
 pub fn axis_node(domain: u16, result_timeout: f64) -> axis_node::AxisNode {
+    axis_node_of(domain, ServiceMapping::Cyclone, result_timeout)
+}
+
+/// The same axis node speaking `mapping`.
+pub fn axis_node_with(domain: u16, mapping: ServiceMapping) -> axis_node::AxisNode {
+    axis_node_of(domain, mapping, 900.0)
+}
+
+fn axis_node_of(domain: u16, mapping: ServiceMapping, result_timeout: f64) -> axis_node::AxisNode {
     let cfg: serde_yaml::Value = serde_yaml::from_str(
         "axes:\n  x:\n    max_velocity: 1000.0\n    acceleration: 10000.0\n    deceleration: 10000.0\n    jerk: 100000.0\n",
     )
     .unwrap();
-    let mut c = common("axis_node", true, ServiceMapping::Cyclone);
+    let mut c = common("axis_node", true, mapping);
     c.result_timeout = result_timeout;
     axis_node::start(&c, cfg, "test", domain).expect("axis node")
 }

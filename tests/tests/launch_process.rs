@@ -15,12 +15,25 @@ struct Demo {
 }
 
 impl Demo {
+    /// The demo under `ulimit -n 1024` (through `sh`).
     fn start(domain: u16) -> Demo {
-        let mut child = Command::new("sh")
-            .arg("-c")
+        let mut cmd = Command::new("sh");
+        cmd.arg("-c")
             .arg("ulimit -n 1024 && exec \"$0\" \"$1\"")
             .arg(launcher_bin())
-            .arg(workspace().join("launch-configs/demo.yaml"))
+            .arg(workspace().join("launch-configs/demo.yaml"));
+        Demo::spawn(cmd, domain)
+    }
+
+    /// The demo started directly (its pid is motion_launch's from the exec on).
+    fn start_direct(domain: u16) -> Demo {
+        let mut cmd = Command::new(launcher_bin());
+        cmd.arg(workspace().join("launch-configs/demo.yaml"));
+        Demo::spawn(cmd, domain)
+    }
+
+    fn spawn(mut cmd: Command, domain: u16) -> Demo {
+        let mut child = cmd
             .env("ROS_DOMAIN_ID", domain.to_string())
             .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
             .stdout(Stdio::null())
@@ -55,6 +68,30 @@ impl Demo {
             }
         }
         panic!("demo not running after {secs} s:\n{}", log.join("\n"));
+    }
+
+    /// Waits until the process blocks SIGINT and SIGTERM (its first instructions ran): the
+    /// earliest moment a program can handle a signal; before it, the kernel's default applies
+    /// while the dynamic loader runs.
+    fn wait_signals_taken(&self) {
+        let status = format!("/proc/{}/status", self.child.id());
+        let end = Instant::now() + Duration::from_secs(5);
+        while Instant::now() < end {
+            let blocked = std::fs::read_to_string(&status)
+                .ok()
+                .and_then(|s| {
+                    s.lines()
+                        .find_map(|l| l.strip_prefix("SigBlk:"))
+                        .and_then(|h| u64::from_str_radix(h.trim(), 16).ok())
+                })
+                .unwrap_or(0);
+            let want = (1u64 << (2 - 1)) | (1u64 << (15 - 1)); // SIGINT, SIGTERM
+            if blocked & want == want {
+                return;
+            }
+            std::thread::sleep(Duration::from_micros(200));
+        }
+        panic!("motion_launch did not block SIGINT/SIGTERM within 5 s");
     }
 
     fn signal(&self, sig: &str) {
@@ -106,11 +143,13 @@ fn the_demo_runs_under_ulimit_1024_with_at_most_256_open_files() {
 #[test]
 fn sigterm_or_sigint_at_any_moment_exits_0_within_2_s() {
     require_netns();
-    // Moments after the spawn, across the start-up of the three nodes and after it.
+    // Moments after the program's first instructions (the signal mask is in place), across
+    // the start-up of the three nodes and after it.
     let moments = [0.0, 0.05, 0.15, 0.3, 0.5, 0.8, 1.2, 2.0];
     for (k, &at) in moments.iter().enumerate() {
         let sig = if k % 2 == 0 { "TERM" } else { "INT" };
-        let mut demo = Demo::start(unique_domain() + 120);
+        let mut demo = Demo::start_direct(unique_domain() + 120);
+        demo.wait_signals_taken();
         std::thread::sleep(Duration::from_secs_f64(at));
         let sent = Instant::now();
         demo.signal(sig);

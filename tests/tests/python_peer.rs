@@ -12,6 +12,10 @@ fn run_peer_test(script: &str, domain: u16) {
 /// of UDP packets (scripts/netns-lossy).
 fn run_peer_test_with(script: &str, domain: u16, loss: Option<u32>) {
     require_netns();
+    // One script at a time: each starts motion_launch and a DDS peer, and the timing checks
+    // (first call within 100 ms) must not measure seven of them sharing two cores.
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let python = std::env::var("MOTION_PYTHON").unwrap_or_else(|_| "python3".into());
     let mut cmd = match loss {
         None => Command::new(&python),
@@ -21,12 +25,47 @@ fn run_peer_test_with(script: &str, domain: u16, loss: Option<u32>) {
             c
         }
     };
-    let out = cmd
+    // Its own process group: if the script dies without stopping its motion_launch (a crash
+    // of the DDS library), the group is killed, so no orphan holds the pipes open for ever.
+    use std::io::Read;
+    use std::os::unix::process::CommandExt;
+    let mut child = cmd
         .arg(workspace().join("tests/peer").join(script))
         .env("MOTION_LAUNCH_BIN", launcher())
         .env("ROS_DOMAIN_ID", domain.to_string())
-        .output()
+        .process_group(0)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
         .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));
+    let pipe = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    };
+    let out_t = pipe(Box::new(child.stdout.take().unwrap()));
+    let err_t = pipe(Box::new(child.stderr.take().unwrap()));
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(600);
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break Some(s);
+        }
+        if std::time::Instant::now() > end {
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let _ = Command::new("kill")
+        .args(["-KILL", "--", &format!("-{}", child.id())])
+        .status();
+    let _ = child.wait();
+    let out = std::process::Output {
+        status: status.unwrap_or_else(|| panic!("{script}: still running after 600 s")),
+        stdout: out_t.join().unwrap_or_default(),
+        stderr: err_t.join().unwrap_or_default(),
+    };
     let stderr = String::from_utf8_lossy(&out.stderr);
     // unittest reports on stderr; keep the summary and failures, drop DDS log noise.
     let report: Vec<&str> = stderr

@@ -201,6 +201,38 @@ impl CommonConfig {
     }
 }
 
+/// What `ros2 param describe` says of a node parameter (all are read-only at run time: they
+/// come from the launch config). Node-specific names are described here too, so that the
+/// text lives in one place.
+pub fn parameter_description(name: &str) -> &'static str {
+    match name {
+        "cycle_period" => "cycle period of the node's controller [s] (launch config)",
+        "state_rate" => "rate of the state topics [Hz] (launch config)",
+        "lockstep" => "simulated time: cycles run on ~/step, the node publishes /clock",
+        "service_mapping" => {
+            "request/reply mapping of the node's services: auto (from RMW_IMPLEMENTATION), cyclone, enhanced, basic"
+        }
+        "queue_capacity" => "commands waiting for the next cycle; a full queue refuses with 0x7F04",
+        "result_timeout" => "how long an ended action goal's result is kept for its client [s]",
+        "use_sim_time" => "ROS time from /clock instead of the system clock",
+        "axes" => "names of the configured axes",
+        "platform_profile" => "platform profile: tc2_mc2 (Beckhoff) or isg_mcp (ISG)",
+        "ca_groups" => "names of the collision-avoidance groups",
+        "persistent_parameter_file" => {
+            "file of MC_Write(Bool)ParameterPersistent values, applied at start (empty: none)"
+        }
+        "movers" => "names of the configured movers",
+        "groups" => "names of the configured groups",
+        "parts" => "names of the configured parts",
+        "tracks" => "names of the configured tracks",
+        "environment" => "name of the XPlanar environment",
+        "belts" => "numbers of the configured conveyor belts",
+        "path_prep_cycles" => "cycles from the Execute edge to the first moving set point",
+        "profile_queue_capacity" => "profiles that may wait behind the running one",
+        _ => "node setting from the launch config (read-only at run time)",
+    }
+}
+
 /// Splits a node entry of a launch config into its common settings and the engine's part.
 pub fn split_entry(
     entry: &serde_yaml::Mapping,

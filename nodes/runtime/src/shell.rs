@@ -280,13 +280,23 @@ where
         handle: ControllerHandle<E>,
         parameters: Vec<(String, ParameterValue)>,
     ) -> Result<Self, ShellError> {
+        // Parameter services speak the node's mapping (ros2 param works under rmw_cyclonedds
+        // too) and describe each parameter as read-only with its meaning.
         let mut opts = NodeOptions::new()
             .enable_rosout(true)
-            .start_parameter_services(true);
+            .start_parameter_services(true)
+            .parameter_service_mapping(settings.service_mapping)
+            .describe_parameter(
+                "use_sim_time",
+                crate::host::parameter_description("use_sim_time"),
+                false,
+            );
         let read_only: Arc<Vec<String>> =
             Arc::new(parameters.iter().map(|(n, _)| n.clone()).collect());
         for (n, v) in parameters {
-            opts = opts.declare_parameter(&n, v);
+            opts = opts
+                .describe_parameter(&n, crate::host::parameter_description(&n), true)
+                .declare_parameter(&n, v);
         }
         let ro = read_only.clone();
         // Declaration goes through the validator too: refuse changes only once the node runs.

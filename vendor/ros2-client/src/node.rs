@@ -574,6 +574,7 @@ impl Node {
       options.parameter_set_action.take(),
     )
     .map_err(NodeCreateError::BadParameter)?;
+    parameters.set_descriptions(options.parameter_descriptions.clone());
 
     let mut node = Node {
       node_name,
@@ -647,15 +648,16 @@ impl Node {
     let (stop_spin_sender, stop_spin_receiver) = async_channel::bounded(1);
     self.stop_spin_sender = Some(stop_spin_sender);
 
-    //TODO: Check QoS policies against ROS 2 specs or some reference.
-    let service_qos = QosProfile::publisher_default().history(History::KeepLast { depth: 1 });
+    // motion-suite patch: rmw_qos_profile_parameters (reliable, volatile, keep
+    // last 1000); depth 1 dropped all but the last of a burst of requests.
+    let service_qos = QosProfile::publisher_default().history(History::KeepLast { depth: 1000 });
 
     let node_name = self.node_name.fully_qualified_name();
 
     self.suppress_node_info_updates(true);
 
     let parameter_servers = if self.options.start_parameter_services {
-      let service_mapping = ServiceMapping::Enhanced; //TODO: parameterize
+      let service_mapping = self.options.parameter_service_mapping; // motion-suite patch
       let get_parameters_server = self.create_server(
         service_mapping,
         &Name::new(&node_name, "get_parameters").unwrap(),
@@ -711,9 +713,13 @@ impl Node {
       None // No parameter services
     };
 
+    // motion-suite patch: `/clock` is rosgraph_msgs/msg/Clock (its one field is
+    // a builtin_interfaces/Time, so the bytes read as a Time); the topic was
+    // created with type name builtin_interfaces/msg/Time, which clashed with
+    // every real /clock publisher ("Inconsistent topic update").
     let clock_topic = self.create_topic(
       &Name::new("/", "clock").unwrap(),
-      MessageTypeName::new("builtin_interfaces", "Time"),
+      MessageTypeName::new("rosgraph_msgs", "Clock"),
       &DEFAULT_SUBSCRIPTION_QOS,
     )?;
 
@@ -874,6 +880,11 @@ impl Node {
   /// is matched.
   pub(crate) fn matched_readers_map(&self) -> Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>> {
     Arc::clone(&self.writers_to_remote_readers)
+  }
+
+  /// motion-suite patch: the local readers' matched remote writers.
+  pub(crate) fn matched_writers_map(&self) -> Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>> {
+    Arc::clone(&self.readers_to_remote_writers)
   }
 
   // reader waits for at least one writer to be present

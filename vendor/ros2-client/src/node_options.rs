@@ -37,6 +37,12 @@ pub struct NodeOptions {
   pub(crate) allow_undeclared_parameters: bool,
   pub(crate) parameter_validator: Option<Box<ParameterFunc>>,
   pub(crate) parameter_set_action: Option<Box<ParameterFunc>>,
+  // motion-suite patch: the request/reply mapping of the parameter services and
+  // what `describe_parameters` says of each parameter.
+  #[cfg(feature = "dds")]
+  pub(crate) parameter_service_mapping: crate::ServiceMapping,
+  pub(crate) parameter_descriptions:
+    std::collections::BTreeMap<String, crate::parameters::ParameterDescription>,
 }
 
 impl NodeOptions {
@@ -52,7 +58,35 @@ impl NodeOptions {
       allow_undeclared_parameters: false,
       parameter_validator: None,
       parameter_set_action: None,
+      #[cfg(feature = "dds")]
+      parameter_service_mapping: crate::ServiceMapping::Enhanced,
+      parameter_descriptions: std::collections::BTreeMap::new(),
     }
+  }
+
+  /// (motion-suite patch) The request/reply mapping of the six parameter
+  /// services; default Enhanced (as rmw_fastrtps). A node whose other services
+  /// speak the Cyclone mapping must say so here, or `ros2 param` fails for
+  /// rmw_cyclonedds users.
+  #[cfg(feature = "dds")]
+  pub fn parameter_service_mapping(self, mapping: crate::ServiceMapping) -> NodeOptions {
+    NodeOptions {
+      parameter_service_mapping: mapping,
+      ..self
+    }
+  }
+
+  /// (motion-suite patch) What `describe_parameters` answers for `name`: its
+  /// description and whether it is read-only.
+  pub fn describe_parameter(mut self, name: &str, description: &str, read_only: bool) -> NodeOptions {
+    self.parameter_descriptions.insert(
+      name.to_owned(),
+      crate::parameters::ParameterDescription {
+        description: description.to_owned(),
+        read_only,
+      },
+    );
+    self
   }
   pub fn enable_rosout(self, enable_rosout: bool) -> NodeOptions {
     NodeOptions {

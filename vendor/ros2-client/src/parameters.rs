@@ -236,6 +236,16 @@ impl ParameterDescriptor {
   }
 }
 
+/// (motion-suite patch) A parameter's description and read-only flag, as
+/// given with `NodeOptions::describe_parameter`.
+#[derive(Clone, Debug, Default)]
+pub struct ParameterDescription {
+  /// Shown by `ros2 param describe`.
+  pub description: String,
+  /// The value cannot change after the node started.
+  pub read_only: bool,
+}
+
 /// Optional Limits for a numeric [`Parameter`]
 pub enum NumericRange {
   NotSpecified,
@@ -351,6 +361,7 @@ pub(crate) struct ParameterStore {
   validator: Option<Mutex<Box<ParameterFunc>>>,
   set_action: Option<Mutex<Box<ParameterFunc>>>,
   use_sim_time: AtomicBool,
+  descriptions: Mutex<BTreeMap<String, ParameterDescription>>,
 }
 
 impl ParameterStore {
@@ -384,6 +395,7 @@ impl ParameterStore {
       validator: validator.map(Mutex::new),
       set_action: set_action.map(Mutex::new),
       use_sim_time: AtomicBool::new(false),
+      descriptions: Mutex::new(BTreeMap::new()),
     };
     for (name, value) in &initial {
       store.check_value(name, value)?;
@@ -424,12 +436,25 @@ impl ParameterStore {
       .collect()
   }
 
+  /// (motion-suite patch) Sets what `describe` says of the named parameters.
+  pub fn set_descriptions(&self, descriptions: BTreeMap<String, ParameterDescription>) {
+    *self.descriptions.lock().unwrap() = descriptions;
+  }
+
   pub fn describe(&self, names: &[String]) -> Vec<ParameterDescriptor> {
     let values = self.values.lock().unwrap();
+    let descriptions = self.descriptions.lock().unwrap();
     names
       .iter()
       .map(|name| match values.get(name) {
-        Some(value) => ParameterDescriptor::from_value(name, value),
+        Some(value) => {
+          let mut d = ParameterDescriptor::from_value(name, value);
+          if let Some(given) = descriptions.get(name) {
+            d.description = given.description.clone();
+            d.read_only = given.read_only;
+          }
+          d
+        }
         None => ParameterDescriptor::unknown(name),
       })
       .collect()

@@ -36,7 +36,7 @@ where
   request_receiver: SimpleDataReaderR<RequestWrapper<Req>>,
   response_sender: DataWriterR<ResponseWrapper<Resp>>,
   // motion-suite patch: see `wait_for_requester`.
-  matched_readers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
+  matches: Matches,
   requesters: Mutex<BTreeMap<RmwRequestId, GUID>>,
 }
 
@@ -48,18 +48,32 @@ pub const REPLY_MATCH_WAIT: Duration = Duration::from_millis(500);
 /// forgotten (their replies then go out without waiting).
 const MAX_REMEMBERED_REQUESTERS: usize = 16_384;
 
-/// True when `writer` has a matched remote reader in the participant of
-/// `requester` (the request's writer).
-fn reader_of_matched(
-  map: &Mutex<BTreeMap<GUID, BTreeSet<GUID>>>,
-  writer: GUID,
-  requester: GUID,
-) -> bool {
-  map
-    .lock()
-    .unwrap()
-    .get(&writer)
-    .is_some_and(|readers| readers.iter().any(|r| r.prefix == requester.prefix))
+/// The matches the reply wait looks at: the reply writer's remote readers and
+/// the request reader's remote writers, as the node's spinner keeps them.
+#[derive(Clone)]
+struct Matches {
+  readers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
+  writers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
+  reply_writer: GUID,
+  request_reader: GUID,
+}
+
+impl Matches {
+  /// True when the reply writer has matched as many readers of the requester's
+  /// participant as the request reader has matched writers of it: each client
+  /// is one request writer and one reply reader, so the newest client's reader
+  /// is matched too (a participant may hold several clients, old and new).
+  fn requester_matched(&self, requester: GUID) -> bool {
+    let count = |map: &Mutex<BTreeMap<GUID, BTreeSet<GUID>>>, local: GUID| {
+      map
+        .lock()
+        .unwrap()
+        .get(&local)
+        .map_or(0, |remote| remote.iter().filter(|r| r.prefix == requester.prefix).count())
+    };
+    let readers = count(&self.readers, self.reply_writer);
+    readers > 0 && readers >= count(&self.writers, self.request_reader)
+  }
 }
 
 impl<Req, Resp> Server<Req, Resp>
@@ -91,11 +105,17 @@ where
       response_topic.name()
     );
 
+    let matches = Matches {
+      readers: node.matched_readers_map(),
+      writers: node.matched_writers_map(),
+      reply_writer: response_sender.guid(),
+      request_reader: request_receiver.guid(),
+    };
     Ok(Server::<Req, Resp> {
       service_mapping,
       request_receiver,
       response_sender,
-      matched_readers: node.matched_readers_map(),
+      matches,
       requesters: Mutex::new(BTreeMap::new()),
     })
   }
@@ -123,25 +143,24 @@ where
   /// first call of every fresh participant (each `ros2 service call`) was lost
   /// or answered only at a later heartbeat. Returns at once when matched.
   pub async fn wait_for_requester(&self, id: RmwRequestId) {
-    let Some(prefix) = self.requesters.lock().unwrap().remove(&id) else {
+    let Some(requester) = self.requesters.lock().unwrap().remove(&id) else {
       return;
     };
-    let writer = self.response_sender.guid();
-    if reader_of_matched(&self.matched_readers, writer, prefix) {
+    if self.matches.requester_matched(requester) {
       return;
     }
-    let map = Arc::clone(&self.matched_readers);
+    let matches = self.matches.clone();
     let (tx, rx) = futures::channel::oneshot::channel::<()>();
     // No timer in this crate's runtime-agnostic API: a short-lived thread polls.
     std::thread::spawn(move || {
       let end = Instant::now() + REPLY_MATCH_WAIT;
-      while !reader_of_matched(&map, writer, prefix) && Instant::now() < end {
+      while !matches.requester_matched(requester) && Instant::now() < end {
         std::thread::sleep(Duration::from_millis(1));
       }
       let _ = tx.send(());
     });
     let _ = rx.await;
-    if !reader_of_matched(&self.matched_readers, writer, prefix) {
+    if !self.matches.requester_matched(requester) {
       debug!("reply to {id:?}: requester's reader not matched, sending anyway");
     }
   }
