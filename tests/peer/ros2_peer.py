@@ -14,6 +14,7 @@ only peer; run it inside scripts/netns-run as every DDS test.
 
 import os
 import random
+import subprocess
 import sys
 import time
 import typing
@@ -47,6 +48,30 @@ import gen_python_types  # noqa: E402
 STATUS_SUCCEEDED = 4
 STATUS_CANCELED = 5
 STATUS_ABORTED = 6
+
+
+def launch(config, tag, env=None):
+    """Starts MOTION_LAUNCH_BIN on `config` (YAML text) as rclpy on rmw_cyclonedds_cpp would
+    see it (Cyclone request/reply mapping), on ROS_DOMAIN_ID; returns (process, domain).
+    Refuses to run outside the private network namespace (network rule)."""
+    if os.environ.get("MOTION_IN_NETNS") != "1":
+        raise RuntimeError("run inside scripts/netns-run (network rule)")
+    domain = int(os.environ.get("ROS_DOMAIN_ID", "77"))
+    cfg = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"peer_{tag}_{os.getpid()}.yaml")
+    with open(cfg, "w") as f:
+        f.write(config)
+    full_env = dict(os.environ, RMW_IMPLEMENTATION="rmw_cyclonedds_cpp", ROS_DOMAIN_ID=str(domain))
+    full_env.update(env or {})
+    return subprocess.Popen([os.environ["MOTION_LAUNCH_BIN"], cfg], env=full_env), domain
+
+
+def stop(proc):
+    """SIGTERM, then SIGKILL after 10 s."""
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
 
 
 def reliable_qos(depth=10, transient_local=False):

@@ -9,7 +9,6 @@ Usage: python3 test_axis_node.py  (env MOTION_LAUNCH_BIN, MOTION_LAUNCH_CONFIG, 
 """
 
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -37,24 +36,12 @@ ENUM_OUT_OF_RANGE = 0x7F03
 class AxisNodeOverCyclone(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if os.environ.get("MOTION_IN_NETNS") != "1":
-            raise RuntimeError("run inside scripts/netns-run (network rule)")
-        cls.domain = int(os.environ.get("ROS_DOMAIN_ID", "77"))
-        binary = os.environ["MOTION_LAUNCH_BIN"]
-        cfg = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"peer_axis_{os.getpid()}.yaml")
-        with open(cfg, "w") as f:
-            f.write(CONFIG)
-        env = dict(os.environ, RMW_IMPLEMENTATION="rmw_cyclonedds_cpp", ROS_DOMAIN_ID=str(cls.domain))
-        cls.proc = subprocess.Popen([binary, cfg], env=env)
+        cls.proc, cls.domain = ros2_peer.launch(CONFIG, "axis")
         cls.peer = ros2_peer.Peer(cls.domain)
 
     @classmethod
     def tearDownClass(cls):
-        cls.proc.terminate()
-        try:
-            cls.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            cls.proc.kill()
+        ros2_peer.stop(cls.proc)
 
     def test_1_state_topic_and_diagnostics(self):
         states = self.peer.subscribe("/axis_node/axis_states", "motion_msgs/msg/AxisStateArray")

@@ -10,7 +10,6 @@ Usage: python3 test_first_call.py  (env MOTION_LAUNCH_BIN, ROS_DOMAIN_ID; inside
 """
 
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -52,15 +51,7 @@ def first_call(peer):
 class FirstCall(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if os.environ.get("MOTION_IN_NETNS") != "1":
-            raise RuntimeError("run inside scripts/netns-run (network rule)")
-        cls.domain = int(os.environ.get("ROS_DOMAIN_ID", "78"))
-        cfg = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"peer_first_{os.getpid()}.yaml")
-        with open(cfg, "w") as f:
-            f.write(CONFIG)
-        env = dict(os.environ, RMW_IMPLEMENTATION="rmw_cyclonedds_cpp", ROS_DOMAIN_ID=str(cls.domain),
-                   RUST_LOG="error")
-        cls.proc = subprocess.Popen([os.environ["MOTION_LAUNCH_BIN"], cfg], env=env)
+        cls.proc, cls.domain = ros2_peer.launch(CONFIG, "first", env={"RUST_LOG": "error"})
         cls.peer = ros2_peer.Peer(cls.domain)
         # The node is up once a first (unmeasured) call is answered.
         c = ros2_peer.ServiceClient(cls.peer, "/axis_node/read_status", "motion_msgs/srv/ReadStatus")
@@ -69,11 +60,7 @@ class FirstCall(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
-        cls.proc.terminate()
-        try:
-            cls.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            cls.proc.kill()
+        ros2_peer.stop(cls.proc)
 
     def report(self, what, times):
         times = sorted(times)

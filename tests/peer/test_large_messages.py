@@ -12,7 +12,6 @@ Usage: python3 test_large_messages.py  (env MOTION_LAUNCH_BIN, ROS_DOMAIN_ID; in
 import gc
 import json
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -38,23 +37,11 @@ ORDER = json.dumps({"MoveAbsolute": {
 class LargeMessages(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if os.environ.get("MOTION_IN_NETNS") != "1":
-            raise RuntimeError("run inside scripts/netns-run (network rule)")
-        cls.domain = int(os.environ.get("ROS_DOMAIN_ID", "79"))
-        cfg = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"peer_large_{os.getpid()}.yaml")
-        with open(cfg, "w") as f:
-            f.write(CONFIG)
-        env = dict(os.environ, RMW_IMPLEMENTATION="rmw_cyclonedds_cpp", ROS_DOMAIN_ID=str(cls.domain),
-                   RUST_LOG="error")
-        cls.proc = subprocess.Popen([os.environ["MOTION_LAUNCH_BIN"], cfg], env=env)
+        cls.proc, cls.domain = ros2_peer.launch(CONFIG, "large", env={"RUST_LOG": "error"})
 
     @classmethod
     def tearDownClass(cls):
-        cls.proc.terminate()
-        try:
-            cls.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            cls.proc.kill()
+        ros2_peer.stop(cls.proc)
 
     def test_1_state_topic_of_1_mb(self):
         # A participant of its own, gone at the end: a subscriber that keeps 1 MB samples

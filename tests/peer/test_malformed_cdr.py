@@ -9,7 +9,6 @@ Usage: python3 test_malformed_cdr.py  (env MOTION_LAUNCH_BIN, ROS_DOMAIN_ID; ins
 """
 
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -75,26 +74,14 @@ def variants():
 class MalformedCdr(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if os.environ.get("MOTION_IN_NETNS") != "1":
-            raise RuntimeError("run inside scripts/netns-run (network rule)")
-        cls.domain = int(os.environ.get("ROS_DOMAIN_ID", "80"))
-        cfg = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"peer_cdr_{os.getpid()}.yaml")
-        with open(cfg, "w") as f:
-            f.write(CONFIG)
-        env = dict(os.environ, RMW_IMPLEMENTATION="rmw_cyclonedds_cpp", ROS_DOMAIN_ID=str(cls.domain),
-                   RUST_LOG="error")
-        cls.proc = subprocess.Popen([os.environ["MOTION_LAUNCH_BIN"], cfg], env=env)
+        cls.proc, cls.domain = ros2_peer.launch(CONFIG, "cdr", env={"RUST_LOG": "error"})
         cls.peer = ros2_peer.Peer(cls.domain)
         cls.power = cls.peer.service("/axis_node/power", "motion_msgs/srv/Power")
         cls.power.wait_for_server()
 
     @classmethod
     def tearDownClass(cls):
-        cls.proc.terminate()
-        try:
-            cls.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            cls.proc.kill()
+        ros2_peer.stop(cls.proc)
 
     def test_malformed_requests_are_dropped_and_the_node_keeps_serving(self):
         for name, sample in variants():

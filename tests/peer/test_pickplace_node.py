@@ -10,7 +10,6 @@ Usage: python3 test_pickplace_node.py  (env MOTION_LAUNCH_BIN, ROS_DOMAIN_ID)
 """
 
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -50,26 +49,14 @@ WORKPIECE_RECEIVED, WORKPIECE_VISIBLE = 0, 1
 class PickPlaceNodeOverCyclone(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if os.environ.get("MOTION_IN_NETNS") != "1":
-            raise RuntimeError("run inside scripts/netns-run (network rule)")
-        cls.domain = int(os.environ.get("ROS_DOMAIN_ID", "78"))
-        binary = os.environ["MOTION_LAUNCH_BIN"]
-        cfg = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"peer_pickplace_{os.getpid()}.yaml")
-        with open(cfg, "w") as f:
-            f.write(CONFIG)
-        env = dict(os.environ, RMW_IMPLEMENTATION="rmw_cyclonedds_cpp", ROS_DOMAIN_ID=str(cls.domain))
-        cls.proc = subprocess.Popen([binary, cfg], env=env)
+        cls.proc, cls.domain = ros2_peer.launch(CONFIG, "pickplace")
         cls.peer = ros2_peer.Peer(cls.domain)
         cls.events = cls.peer.subscribe("/pickplace_node/events", "motion_msgs/msg/PickPlaceEvent")
         cls.event_buf = []
 
     @classmethod
     def tearDownClass(cls):
-        cls.proc.terminate()
-        try:
-            cls.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            cls.proc.kill()
+        ros2_peer.stop(cls.proc)
 
     def service(self, name, srv):
         s = self.peer.service(f"/pickplace_node/{name}", f"motion_msgs/srv/{srv}")

@@ -10,7 +10,6 @@ Usage: python3 test_planar_node.py  (env MOTION_LAUNCH_BIN, ROS_DOMAIN_ID)
 """
 
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -48,25 +47,13 @@ MARKER_CUBE = 1
 class PlanarNodeOverCyclone(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if os.environ.get("MOTION_IN_NETNS") != "1":
-            raise RuntimeError("run inside scripts/netns-run (network rule)")
-        cls.domain = int(os.environ.get("ROS_DOMAIN_ID", "78"))
-        binary = os.environ["MOTION_LAUNCH_BIN"]
-        cfg = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"peer_planar_{os.getpid()}.yaml")
-        with open(cfg, "w") as f:
-            f.write(CONFIG)
-        env = dict(os.environ, RMW_IMPLEMENTATION="rmw_cyclonedds_cpp", ROS_DOMAIN_ID=str(cls.domain))
-        cls.proc = subprocess.Popen([binary, cfg], env=env)
+        cls.proc, cls.domain = ros2_peer.launch(CONFIG, "planar")
         cls.peer = ros2_peer.Peer(cls.domain)
         cls.states = cls.peer.subscribe("/planar_node/state", "motion_msgs/msg/PlanarState")
 
     @classmethod
     def tearDownClass(cls):
-        cls.proc.terminate()
-        try:
-            cls.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            cls.proc.kill()
+        ros2_peer.stop(cls.proc)
 
     def wait_state(self, pred, timeout=20.0):
         deadline = time.monotonic() + timeout

@@ -169,6 +169,26 @@ where
 }
 
 impl ClientNode {
+    /// MC_Power with Enable TRUE on `axis` of `/axis_node` (asserts it was accepted).
+    pub async fn power_on(&mut self, axis: &str) {
+        use motion_msgs::srv::{Power, PowerRequest, PowerResponse};
+        let power = self
+            .client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name())
+            .await;
+        let r = within(
+            10.0,
+            "power",
+            power.async_call_service(PowerRequest {
+                axis: axis.into(),
+                enable: true,
+                ..Default::default()
+            }),
+        )
+        .await
+        .expect("power reply");
+        assert!(r.accepted, "power {axis}: {}", r.message);
+    }
+
     /// A service client on `name`, once the server is matched.
     pub async fn client<Req, Resp>(&mut self, name: &str, ty: ServiceTypeName) -> Client<Req, Resp>
     where

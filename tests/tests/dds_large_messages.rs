@@ -157,65 +157,8 @@ async fn a_burst_of_requests_is_served_whole() {
 }
 
 async fn echo_replies(mapping: ServiceMapping) {
-    let domain = unique_domain();
-    let sctx = create_context(domain).unwrap();
-    let mut snode = sctx
-        .new_node(
-            NodeName::new("/", "echo_server").unwrap(),
-            NodeOptions::new().enable_rosout(false),
-        )
-        .unwrap();
-    let name = Name::parse("/echo_server/echo").unwrap();
-    let ty = PickPlaceSetParams::service_type_name();
-    let server = snode
-        .create_server::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
-            mapping,
-            &name,
-            &ty,
-            service_qos(),
-            service_qos(),
-        )
-        .unwrap();
-    let sspin = snode.spinner().unwrap();
-    let _sspin = tokio::spawn(async move {
-        let _ = sspin.spin().await;
-    });
-    let serve = tokio::spawn(async move {
-        loop {
-            let (id, req) = server.async_receive_request().await.expect("request");
-            let resp = PickPlaceSetParamsResponse {
-                accepted: true,
-                command_id: req.params.len() as u64,
-                error_id: 0,
-                message: req.params,
-            };
-            server.async_send_response(id, resp).await.expect("reply");
-        }
-    });
-
-    let cctx = create_context(domain).unwrap();
-    let mut cnode = cctx
-        .new_node(
-            NodeName::new("/", "echo_client").unwrap(),
-            NodeOptions::new().enable_rosout(false),
-        )
-        .unwrap();
-    let client = cnode
-        .create_client::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
-            mapping,
-            &name,
-            &ty,
-            service_qos(),
-            service_qos(),
-        )
-        .unwrap();
-    let cspin = cnode.spinner().unwrap();
-    let _cspin = tokio::spawn(async move {
-        let _ = cspin.spin().await;
-    });
-    within(20.0, "echo service", client.wait_for_service(&cnode)).await;
-    tokio::time::sleep(Duration::from_millis(300)).await;
-
+    let e = echo(mapping).await;
+    let client = &e.client;
     for n in sizes() {
         let sent = text(n);
         let reply = within(10.0, &format!("echo of {n} bytes ({mapping:?})"), async {
@@ -240,9 +183,8 @@ async fn echo_replies(mapping: ServiceMapping) {
         .await;
         assert_eq!(reply.command_id, n as u64);
         assert!(reply.message == sent, "reply of {n} bytes differs");
-        assert!(!serve.is_finished(), "server task died at {n} bytes");
+        assert!(!e.tasks[1].is_finished(), "server task died at {n} bytes");
     }
-    serve.abort();
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -6,8 +6,8 @@
 
 use motion_msgs::msg::AxisStateArray;
 use motion_msgs::srv::{
-    MoveVelocity, MoveVelocityRequest, MoveVelocityResponse, Power, PowerRequest, PowerResponse,
-    SimFault, SimFaultRequest, SimFaultResponse,
+    MoveVelocity, MoveVelocityRequest, MoveVelocityResponse, SimFault, SimFaultRequest,
+    SimFaultResponse,
 };
 use ros2_client::ServiceMapping;
 use std::io::Read;
@@ -66,21 +66,7 @@ async fn a_panic_on_the_ros_side_stops_the_axis_and_ends_the_process() {
     let mut c = ClientNode::new(domain, "failsafe_client", ServiceMapping::Cyclone);
     let states =
         c.subscribe::<AxisStateArray>("/axis_node/axis_states", AxisStateArray::type_name());
-    let power = c
-        .client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name())
-        .await;
-    let r = within(
-        10.0,
-        "power",
-        power.async_call_service(PowerRequest {
-            axis: "x".into(),
-            enable: true,
-            ..Default::default()
-        }),
-    )
-    .await
-    .unwrap();
-    assert!(r.accepted, "{}", r.message);
+    c.power_on("x").await;
     let mv = c
         .client::<MoveVelocityRequest, MoveVelocityResponse>(
             "/axis_node/move_velocity",

@@ -7,8 +7,7 @@ use motion_msgs::action::{
     MoveAbsolute, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult,
 };
 use motion_msgs::srv::{
-    Power, PowerRequest, PowerResponse, WriteParameterPersistent, WriteParameterPersistentRequest,
-    WriteParameterPersistentResponse,
+    WriteParameterPersistent, WriteParameterPersistentRequest, WriteParameterPersistentResponse,
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
@@ -29,21 +28,7 @@ async fn two_clients_on_one_axis_resolve_as_the_manual_says() {
     let _driver = drive(&node, 5);
     let mut a = ClientNode::new(domain, "client_a", ServiceMapping::Cyclone);
     let mut b = ClientNode::new(domain, "client_b", ServiceMapping::Cyclone);
-    let power = a
-        .client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name())
-        .await;
-    let r = within(
-        5.0,
-        "power",
-        power.async_call_service(PowerRequest {
-            axis: "x".into(),
-            enable: true,
-            ..Default::default()
-        }),
-    )
-    .await
-    .unwrap();
-    assert!(r.accepted, "{}", r.message);
+    a.power_on("x").await;
     let ty = MoveAbsolute::action_type_name();
     let ac_a = a
         .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
