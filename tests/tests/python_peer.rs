@@ -59,6 +59,7 @@ fn run_peer_test_with(script: &str, domain: u16, loss: Option<u32>) {
     };
     let _ = Command::new("kill")
         .args(["-KILL", "--", &format!("-{}", child.id())])
+        .stderr(std::process::Stdio::null())
         .status();
     let _ = child.wait();
     let out = std::process::Output {
