@@ -167,8 +167,7 @@ class ServiceClient:
             w = self.writer.get_matched_subscriptions()
             r = self.reader.get_matched_publications()
             if w and r:
-                time.sleep(0.2)  # let the server's reply writer match our reader too
-                return
+                return  # the server's reply waits for our reader (vendor/README.md)
             time.sleep(0.05)
         raise TimeoutError(f"service {self.name}: no server within {timeout} s")
 

@@ -209,7 +209,6 @@ impl ClientNode {
             cl.wait_for_service(&self.node)
         })
         .await;
-        settle().await;
         cl
     }
 
@@ -260,15 +259,8 @@ impl ClientNode {
             ac.result_client().wait_for_service(&self.node)
         })
         .await;
-        settle().await;
         ac
     }
-}
-
-/// After the client saw the match, the server side may not yet have matched its reply writer
-/// to our reader: a first request then loses its reply (notes/dds.md). Give it a moment.
-async fn settle() {
-    tokio::time::sleep(Duration::from_millis(300)).await;
 }
 
 /// QoS of action clients, matching rclpy's defaults (status transient-local).
