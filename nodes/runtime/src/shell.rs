@@ -1030,7 +1030,23 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
                 None => break CommandState::Error(ErrorId::NOT_RUNNING),
             },
             _ = tick.tick() => {
-                let fb = binding.feedback_of(goal, id, &handle.snapshot(), state);
+                // The cycle sends a cycle's events before it publishes that cycle's snapshot:
+                // events drained after reading the snapshot make the state at least as new
+                // as the snapshot (feedback never shows a snapshot's values with an older
+                // Busy/Active).
+                let snap = handle.snapshot();
+                let mut ended = None;
+                while let Ok(ev) = events.try_recv() {
+                    state = ev.state;
+                    if state.is_final() {
+                        ended = Some(state);
+                        break;
+                    }
+                }
+                if let Some(end) = ended {
+                    break end;
+                }
+                let fb = binding.feedback_of(goal, id, &snap, state);
                 let _ = server.publish_feedback(executing.clone(), fb).await;
                 if let Some(query) = binding.reached_query(id) {
                     if matches!(handle.call(query).await, Ok(r) if binding.reached(&r)) {
