@@ -530,12 +530,7 @@ impl<E: Engine> CycleThread<E> {
             crate::rt::wait_until(deadline, Duration::ZERO);
             self.refuse_commands();
             self.cycle_once();
-            if self
-                .cycle
-                .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
-            {
-                self.take_snapshot();
-            }
+            self.snapshot_if_due();
         }
         self.take_snapshot();
         self.failsafe.done.store(true, Ordering::SeqCst);
@@ -570,6 +565,7 @@ impl<E: Engine> CycleThread<E> {
             let woke = Instant::now();
             let lateness = woke.saturating_duration_since(deadline);
             self.cycle_once();
+            self.snapshot_if_due();
             let end = Instant::now();
             // The next deadline keeps the schedule, whatever happened to this cycle.
             deadline += period;
@@ -624,14 +620,7 @@ impl<E: Engine> CycleThread<E> {
                         }
                     }
                 }
-                None => {
-                    if self
-                        .cycle
-                        .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
-                    {
-                        self.take_snapshot();
-                    }
-                }
+                None => self.snapshot_if_due(),
             }
             if self.recorder.due_for_publish(self.cycle) {
                 self.publish_stats();
@@ -686,10 +675,14 @@ impl<E: Engine> CycleThread<E> {
                 }
             }
         }
-        if self.config.mode == ClockMode::RealTime
-            && self
-                .cycle
-                .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
+    }
+
+    /// The periodic snapshot (every `snapshot_every` cycles), for cycles that no step request
+    /// of a lockstep client waits for.
+    fn snapshot_if_due(&mut self) {
+        if self
+            .cycle
+            .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
         {
             self.take_snapshot();
         }
