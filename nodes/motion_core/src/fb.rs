@@ -101,7 +101,7 @@ pub const TRUNCATED: &str = " ... (truncated)";
 
 /// Caps `text` at [`MAX_MESSAGE_LEN`] bytes (on a character boundary), marking the cut with
 /// [`TRUNCATED`]: echoed input (a bad YAML text, a value) must never make a reply unbounded.
-pub fn cap_message(mut text: String) -> String {
+fn cap_message(mut text: String) -> String {
     if text.len() > MAX_MESSAGE_LEN {
         let mut cut = MAX_MESSAGE_LEN - TRUNCATED.len();
         while !text.is_char_boundary(cut) {

@@ -12,7 +12,5 @@ pub mod trajectory;
 
 pub use engine::{Engine, Tick};
 pub use error_id::ErrorId;
-pub use fb::{
-    cap_message, CmdId, CommandEvent, CommandState, ExecuteOutputs, ObjectRef, Rejection,
-};
+pub use fb::{CmdId, CommandEvent, CommandState, ExecuteOutputs, ObjectRef, Rejection};
 pub use trajectory::{Limits, Profile1, State1, TrajectoryError};

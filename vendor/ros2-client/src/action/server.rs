@@ -322,11 +322,6 @@ where
     self.results.lock().unwrap().timeout = timeout;
   }
 
-  /// Number of ended goals whose results are kept (for tests of the bound).
-  pub fn kept_results(&self) -> usize {
-    self.results.lock().unwrap().ended.len()
-  }
-
   /// Serves the result requests of this action (`get_result`) for ever: a
   /// request for an ended goal is answered at once, one for a running goal as
   /// soon as `send_result_response` gives its result, one for an unknown goal
