@@ -39,6 +39,17 @@ fn axis_node_of(domain: u16, mapping: ServiceMapping, result_timeout: f64) -> ax
     axis_node::start(&c, cfg, "test", domain).expect("axis node")
 }
 
+/// The `/axis_node/move_absolute` action client of `c`, once matched.
+pub async fn move_absolute_client(
+    c: &mut ClientNode,
+) -> ros2_client::action::ActionClient<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback> {
+    c.action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
+        "/axis_node/move_absolute",
+        &MoveAbsoluteAction::action_type_name(),
+    )
+    .await
+}
+
 /// A MoveAbsolute goal on `x` (velocity 500).
 pub fn move_goal(position: f64) -> MoveAbsoluteGoal {
     MoveAbsoluteGoal {
@@ -220,12 +231,7 @@ pub async fn goal_burst(goals: usize) -> (FloodCount, FloodCount) {
     let node = axis_node(domain, 900.0);
     let _driver = drive(&node, 5);
     let mut c = ClientNode::new(domain, "burst", ServiceMapping::Cyclone);
-    let ac = c
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
-            "/axis_node/move_absolute",
-            &MoveAbsoluteAction::action_type_name(),
-        )
-        .await;
+    let ac = move_absolute_client(&mut c).await;
     let ids: Vec<GoalId> = (0..goals).map(|_| GoalId::new_random()).collect();
     let mut accepted = 0;
     let sent = pipelined(

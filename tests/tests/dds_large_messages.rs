@@ -6,10 +6,10 @@
 
 use motion_msgs::msg::CommandStatus;
 use motion_msgs::srv::{PickPlaceSetParams, PickPlaceSetParamsRequest, PickPlaceSetParamsResponse};
-use motion_runtime::shell::{create_context, service_qos, topic_qos};
-use ros2_client::{Name, NodeName, NodeOptions, ServiceMapping};
+use motion_runtime::shell::{service_qos, topic_qos};
+use ros2_client::ServiceMapping;
 use std::time::Duration;
-use system_tests::{require_netns, unique_domain, within};
+use system_tests::{require_netns, unique_domain, within, ClientNode};
 
 /// The sizes of the payload text [bytes]: around 64 KiB (where one DATA submessage stops
 /// fitting a loopback datagram) and the 64 kB, 256 kB and 1 MB.
@@ -38,46 +38,32 @@ fn text(n: usize) -> String {
 struct Echo {
     client: ros2_client::Client<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>,
     served: std::sync::Arc<std::sync::atomic::AtomicUsize>,
-    tasks: Vec<tokio::task::JoinHandle<()>>,
-    _nodes: (ros2_client::Node, ros2_client::Node),
-    _contexts: (ros2_client::Context, ros2_client::Context),
+    serve: tokio::task::JoinHandle<()>,
+    _nodes: (ClientNode, ClientNode),
 }
 
 impl Drop for Echo {
     fn drop(&mut self) {
-        for t in &self.tasks {
-            t.abort();
-        }
+        self.serve.abort();
     }
 }
 
 async fn echo(mapping: ServiceMapping) -> Echo {
     let domain = unique_domain();
-    let sctx = create_context(domain).unwrap();
-    let mut snode = sctx
-        .new_node(
-            NodeName::new("/", "echo_server").unwrap(),
-            NodeOptions::new().enable_rosout(false),
-        )
-        .unwrap();
-    let name = Name::parse("/echo_server/echo").unwrap();
-    let ty = PickPlaceSetParams::service_type_name();
-    let server = snode
+    let mut server_node = ClientNode::new(domain, "echo_server", mapping);
+    let server = server_node
+        .node
         .create_server::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
             mapping,
-            &name,
-            &ty,
+            &ClientNode::name("/echo_server/echo"),
+            &PickPlaceSetParams::service_type_name(),
             service_qos(),
             service_qos(),
         )
         .unwrap();
-    let sspin = snode.spinner().unwrap();
-    let mut tasks = vec![tokio::spawn(async move {
-        let _ = sspin.spin().await;
-    })];
     let served = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
     let count = served.clone();
-    tasks.push(tokio::spawn(async move {
+    let serve = tokio::spawn(async move {
         loop {
             let (id, req) = server.async_receive_request().await.expect("request");
             count.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
@@ -89,35 +75,19 @@ async fn echo(mapping: ServiceMapping) -> Echo {
             };
             server.async_send_response(id, resp).await.expect("reply");
         }
-    }));
-    let cctx = create_context(domain).unwrap();
-    let mut cnode = cctx
-        .new_node(
-            NodeName::new("/", "echo_client").unwrap(),
-            NodeOptions::new().enable_rosout(false),
+    });
+    let mut client_node = ClientNode::new(domain, "echo_client", mapping);
+    let client = client_node
+        .client::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
+            "/echo_server/echo",
+            PickPlaceSetParams::service_type_name(),
         )
-        .unwrap();
-    let client = cnode
-        .create_client::<PickPlaceSetParamsRequest, PickPlaceSetParamsResponse>(
-            mapping,
-            &name,
-            &ty,
-            service_qos(),
-            service_qos(),
-        )
-        .unwrap();
-    let cspin = cnode.spinner().unwrap();
-    tasks.push(tokio::spawn(async move {
-        let _ = cspin.spin().await;
-    }));
-    within(20.0, "echo service", client.wait_for_service(&cnode)).await;
-    tokio::time::sleep(Duration::from_millis(300)).await;
+        .await;
     Echo {
         client,
         served,
-        tasks,
-        _nodes: (snode, cnode),
-        _contexts: (sctx, cctx),
+        serve,
+        _nodes: (server_node, client_node),
     }
 }
 
@@ -125,18 +95,8 @@ async fn echo(mapping: ServiceMapping) -> Echo {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_burst_of_requests_is_served_whole() {
     require_netns();
-    if std::env::var("BURST_LOG").is_ok() {
-        motion_runtime::logging::init();
-    }
     let e = echo(ServiceMapping::Cyclone).await;
-    let total: usize = std::env::var("BURST_N")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(500);
-    let window: usize = std::env::var("BURST_W")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(500);
+    let (total, window) = (500, 500);
     let n = system_tests::flood::pipelined(
         &e.client,
         (0..total).map(|k| PickPlaceSetParamsRequest {
@@ -183,7 +143,7 @@ async fn echo_replies(mapping: ServiceMapping) {
         .await;
         assert_eq!(reply.command_id, n as u64);
         assert!(reply.message == sent, "reply of {n} bytes differs");
-        assert!(!e.tasks[1].is_finished(), "server task died at {n} bytes");
+        assert!(!e.serve.is_finished(), "server task died at {n} bytes");
     }
 }
 
@@ -204,45 +164,25 @@ async fn large_service_replies_cyclone() {
 async fn large_reliable_topic_samples() {
     require_netns();
     let domain = unique_domain();
-    let pctx = create_context(domain).unwrap();
-    let mut pnode = pctx
-        .new_node(
-            NodeName::new("/", "big_pub").unwrap(),
-            NodeOptions::new().enable_rosout(false),
+    let mut p = ClientNode::new(domain, "big_pub", ServiceMapping::Cyclone);
+    let topic = p
+        .node
+        .create_topic(
+            &ClientNode::name("/big_pub/status"),
+            CommandStatus::type_name(),
+            &topic_qos(),
         )
         .unwrap();
-    let name = Name::parse("/big_pub/status").unwrap();
-    let topic = pnode
-        .create_topic(&name, CommandStatus::type_name(), &topic_qos())
-        .unwrap();
-    let publisher = pnode
+    let publisher = p
+        .node
         .create_publisher::<CommandStatus>(&topic, None)
         .unwrap();
-    let pspin = pnode.spinner().unwrap();
-    let _pspin = tokio::spawn(async move {
-        let _ = pspin.spin().await;
-    });
-    let sctx = create_context(domain).unwrap();
-    let mut snode = sctx
-        .new_node(
-            NodeName::new("/", "big_sub").unwrap(),
-            NodeOptions::new().enable_rosout(false),
-        )
-        .unwrap();
-    let stopic = snode
-        .create_topic(&name, CommandStatus::type_name(), &topic_qos())
-        .unwrap();
-    let sub = snode
-        .create_subscription::<CommandStatus>(&stopic, None)
-        .unwrap();
-    let sspin = snode.spinner().unwrap();
-    let _sspin = tokio::spawn(async move {
-        let _ = sspin.spin().await;
-    });
+    let mut s = ClientNode::new(domain, "big_sub", ServiceMapping::Cyclone);
+    let sub = s.subscribe::<CommandStatus>("/big_pub/status", CommandStatus::type_name());
     within(
         20.0,
         "subscriber matched",
-        publisher.wait_for_subscription(&pnode),
+        publisher.wait_for_subscription(&p.node),
     )
     .await;
     tokio::time::sleep(Duration::from_millis(300)).await;

@@ -3,9 +3,7 @@
 //! leaves a broken file. (Malformed CDR on request topics: tests/peer/test_malformed_cdr.py;
 //! broken launch configs: launch_configs.rs.)
 
-use motion_msgs::action::{
-    MoveAbsolute, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult,
-};
+use motion_msgs::action::MoveAbsoluteGoal;
 use motion_msgs::srv::{
     WriteParameterPersistent, WriteParameterPersistentRequest, WriteParameterPersistentResponse,
 };
@@ -13,7 +11,7 @@ use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
 use std::process::{Command, Stdio};
 use std::time::Duration;
-use system_tests::flood::pipelined;
+use system_tests::flood::{move_absolute_client, pipelined};
 use system_tests::{
     drive, launcher_bin, require_netns, send_goal, unique_domain, within, ClientNode,
 };
@@ -29,19 +27,8 @@ async fn two_clients_on_one_axis_resolve_as_the_manual_says() {
     let mut a = ClientNode::new(domain, "client_a", ServiceMapping::Cyclone);
     let mut b = ClientNode::new(domain, "client_b", ServiceMapping::Cyclone);
     a.power_on("x").await;
-    let ty = MoveAbsolute::action_type_name();
-    let ac_a = a
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
-            "/axis_node/move_absolute",
-            &ty,
-        )
-        .await;
-    let ac_b = b
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
-            "/axis_node/move_absolute",
-            &ty,
-        )
-        .await;
+    let ac_a = move_absolute_client(&mut a).await;
+    let ac_b = move_absolute_client(&mut b).await;
     let goal = |position| MoveAbsoluteGoal {
         axis: "x".into(),
         position,

@@ -6,9 +6,6 @@
 //! - bursts of service requests and action goals all get an answer (§3).
 
 use axis_engine::{AxisCommand, BufferMode, MoveAbsolute, MoveOptions};
-use motion_msgs::action::{
-    MoveAbsolute as MoveAbsoluteAction, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult,
-};
 use motion_msgs::srv::{
     PickPlaceSetParams, PickPlaceSetParamsRequest, PickPlaceSetParamsResponse, Power, PowerRequest,
     PowerResponse, SubmitBatch, SubmitBatchRequest, SubmitBatchResponse,
@@ -16,7 +13,9 @@ use motion_msgs::srv::{
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
 use std::time::{Duration, Instant};
-use system_tests::flood::{axis_node, goal_burst, move_goal, pipelined, service_flood, QUEUE_FULL};
+use system_tests::flood::{
+    axis_node, goal_burst, move_absolute_client, move_goal, pipelined, service_flood, QUEUE_FULL,
+};
 use system_tests::{common, drive, require_netns, unique_domain, within, ClientNode};
 
 /// §1: a refusal never echoes a 66 kB input whole, and the node keeps answering; a long
@@ -123,19 +122,8 @@ async fn a_client_that_never_asks_for_its_result_stalls_nobody() {
     let _driver = drive(&node, 5);
     let mut a = ClientNode::new(domain, "client_a", ServiceMapping::Cyclone);
     let mut b = ClientNode::new(domain, "client_b", ServiceMapping::Cyclone);
-    let ty = MoveAbsoluteAction::action_type_name();
-    let ac_a = a
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
-            "/axis_node/move_absolute",
-            &ty,
-        )
-        .await;
-    let ac_b = b
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
-            "/axis_node/move_absolute",
-            &ty,
-        )
-        .await;
+    let ac_a = move_absolute_client(&mut a).await;
+    let ac_b = move_absolute_client(&mut b).await;
     // Both goals fail screening (unpowered axis: accepted, then ABORTED with the id at once).
     let (gid_a, acc) = within(10.0, "goal A", ac_a.async_send_goal(move_goal(5.0)))
         .await
@@ -176,12 +164,7 @@ async fn results_expire_after_result_timeout() {
     let node = axis_node(domain, 1.0);
     let _driver = drive(&node, 5);
     let mut c = ClientNode::new(domain, "test_client", ServiceMapping::Cyclone);
-    let ac = c
-        .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
-            "/axis_node/move_absolute",
-            &MoveAbsoluteAction::action_type_name(),
-        )
-        .await;
+    let ac = move_absolute_client(&mut c).await;
     let (early, _) = within(10.0, "goal", ac.async_send_goal(move_goal(5.0)))
         .await
         .unwrap();
