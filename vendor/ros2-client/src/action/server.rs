@@ -337,8 +337,6 @@ where
         .my_result_server
         .async_receive_request()
         .await?;
-      // Its client got the goal response already (which waited for the match).
-      self.actionserver.my_result_server.forget_requester(req_id);
       let now = Instant::now();
       // A goal that has not ended yet (its result will come).
       let known = self.goals.lock().unwrap().get(&goal_id).is_some_and(|g| {

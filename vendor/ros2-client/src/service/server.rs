@@ -131,7 +131,7 @@ where
   }
 
   /// Forgets the requester of `id` (its reply goes out without waiting).
-  pub fn forget_requester(&self, id: RmwRequestId) {
+  fn forget_requester(&self, id: RmwRequestId) {
     self.requesters.lock().unwrap().remove(&id);
   }
 
@@ -186,7 +186,10 @@ where
 
   /// Send response to request by Client.
   /// rmw_req_id identifies request being responded.
+  /// (motion-suite patch) Does not wait for the requester's reader; see
+  /// [`Self::async_send_response`].
   pub fn send_response(&self, rmw_req_id: RmwRequestId, response: Resp) -> WriteResult<(), ()> {
+    self.forget_requester(rmw_req_id);
     let resp_wrapper = ResponseWrapper::<Resp>::new(
       self.service_mapping,
       rmw_req_id,
