@@ -254,7 +254,8 @@ pub fn topic_qos() -> QosProfile {
         .history(History::KeepLast { depth: 10 })
 }
 
-fn action_qos() -> ActionServerQosPolicies {
+/// QoS of action servers: services as `service_qos`, status transient-local keep-last 1 (as rcl_action).
+pub fn action_server_qos() -> ActionServerQosPolicies {
     use ros2_client::qos::{Durability, History};
     let status = QosProfile::publisher_default()
         .history(History::KeepLast { depth: 1 })
@@ -612,7 +613,7 @@ where
                 self.settings.service_mapping,
                 &private_name(&self.settings, name)?,
                 &B::action_type_name(),
-                action_qos(),
+                action_server_qos(),
             )
             .map_err(err("action server"))?;
         let server = Arc::new(AsyncActionServer::new(server));

@@ -833,32 +833,44 @@ where
     cancel_handle: &CancelHandle,
     goals_to_cancel: impl Iterator<Item = GoalId>,
   ) -> WriteResult<(), ()> {
-    let canceling_goals: Vec<GoalInfo> =
+    // motion-suite patch: a goal may have ended between `receive_cancel_request` and this
+    // call (the application's cancel can end it at once). Only a goal still Accepted or
+    // Executing moves to Canceling; one that ended Canceled in between is reported as
+    // canceling (the request did cancel it); one that ended otherwise is left alone. A
+    // status never goes back from an end state, which `flush_finisehd_goals` asserts.
+    let mut terminated = false;
+    let canceling_goals: Vec<GoalInfo> = {
+      let mut goals = self.goals.lock().unwrap();
       goals_to_cancel
         .filter_map(|goal_id| {
-          self.goals.lock().unwrap().get(&goal_id).and_then(
-            |AsyncGoal { accepted_time, .. }| {
-              accepted_time.map(|stamp| GoalInfo { goal_id, stamp })
-            },
-          )
+          let Some(goal) = goals.get_mut(&goal_id) else {
+            terminated = true; // ended and already flushed
+            return None;
+          };
+          let stamp = goal.accepted_time?;
+          match goal.status {
+            GoalStatusEnum::Accepted | GoalStatusEnum::Executing => {
+              goal.status = GoalStatusEnum::Canceling;
+            }
+            GoalStatusEnum::Canceling | GoalStatusEnum::Canceled => {}
+            _ => {
+              terminated = true;
+              return None;
+            }
+          }
+          Some(GoalInfo { goal_id, stamp })
         })
-        .collect();
-
-    for goal_info in &canceling_goals {
-      self
-        .goals
-        .lock()
-        .unwrap()
-        .entry(goal_info.goal_id)
-        .and_modify(|gg| gg.status = GoalStatusEnum::Canceling);
-    }
+        .collect()
+    };
     self.publish_statuses().await;
 
     let response = action_msgs::CancelGoalResponse {
-      return_code: if canceling_goals.is_empty() {
-        action_msgs::CancelGoalResponseEnum::Rejected
-      } else {
+      return_code: if !canceling_goals.is_empty() {
         action_msgs::CancelGoalResponseEnum::None // i.e. no error
+      } else if terminated {
+        action_msgs::CancelGoalResponseEnum::GoalTerminated
+      } else {
+        action_msgs::CancelGoalResponseEnum::Rejected
       },
       goals_canceling: canceling_goals,
     };
