@@ -56,16 +56,27 @@ async fn a_cancel_answered_after_the_goal_ended_keeps_the_end_status() {
                 let new = server.receive_new_goal().await.expect("goal request");
                 assert!(server.get_new_goal(new.clone()).is_some());
                 let accepted = server.accept_goal(new).await.expect("accept");
-                server.start_executing_goal(accepted).await.expect("execute")
+                server
+                    .start_executing_goal(accepted)
+                    .await
+                    .expect("execute")
             };
             let ((gid, resp), executing) = tokio::join!(
-                async { client.async_send_goal(MoveAbsoluteGoal::default()).await.unwrap() },
+                async {
+                    client
+                        .async_send_goal(MoveAbsoluteGoal::default())
+                        .await
+                        .unwrap()
+                },
                 serve_goal
             );
             assert!(resp.accepted, "goal {k}");
             // The cancel is read while the goal executes; the goal ends before the answer.
             let serve_cancel = async {
-                let cancel = server.receive_cancel_request().await.expect("cancel request");
+                let cancel = server
+                    .receive_cancel_request()
+                    .await
+                    .expect("cancel request");
                 assert!(cancel.contains_goal(&gid), "goal {k}");
                 server
                     .send_result_response(executing, end, MoveAbsoluteResult::default())
@@ -105,7 +116,12 @@ async fn a_cancel_answered_after_the_goal_ended_keeps_the_end_status() {
             server.accept_goal(new).await.expect("accept");
         };
         let ((_, resp), ()) = tokio::join!(
-            async { client.async_send_goal(MoveAbsoluteGoal::default()).await.unwrap() },
+            async {
+                client
+                    .async_send_goal(MoveAbsoluteGoal::default())
+                    .await
+                    .unwrap()
+            },
             serve_goal
         );
         assert!(resp.accepted);

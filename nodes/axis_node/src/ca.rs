@@ -31,7 +31,7 @@ use motion_msgs::msg::{CaAxisState, CaGroupState, McLreal};
 use motion_msgs::srv::*;
 use motion_msgs::CommandResponse;
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::stamp_from_secs;
+use motion_runtime::shell::stamp;
 use motion_runtime::{ActionBinding, CommandLabel, ControllerHandle, NodeShell, ShellError};
 use ros2_client::ActionTypeName;
 use std::sync::Arc;
@@ -653,14 +653,14 @@ fn axis_state(a: &CaAxisStatus) -> CaAxisState {
 pub(crate) fn group_state(s: &Stamped<AxisSnapshot>, group: &str) -> CaGroupState {
     let Some(g) = s.state.ca_groups.iter().find(|g| g.name == group) else {
         return CaGroupState {
-            stamp: stamp_from_secs(s.sim_time),
+            stamp: stamp(s),
             cycle: s.cycle,
             name: group.to_string(),
             ..Default::default()
         };
     };
     CaGroupState {
-        stamp: stamp_from_secs(s.sim_time),
+        stamp: stamp(s),
         cycle: s.cycle,
         name: g.name.clone(),
         state: g.state as u32,

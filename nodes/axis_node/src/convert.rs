@@ -1,17 +1,18 @@
 //! Snapshots to messages: `~/axis_states`, `~/axes/<axis>/state`, `joint_states`.
 
 use axis_engine::{AxisEngine, AxisSnapshot, AxisStatus};
+use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::deps::sensor_msgs::msg::JointState;
 use motion_msgs::deps::std_msgs::msg::Header;
 use motion_msgs::msg::{AxisState, AxisStateArray};
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::stamp_from_secs;
+use motion_runtime::shell::stamp;
 use motion_runtime::{NodeShell, ShellError};
 
 /// One axis as `motion_msgs/AxisState`.
-pub fn axis_state(a: &AxisStatus, t: f64) -> AxisState {
+pub fn axis_state(a: &AxisStatus, stamp: Time) -> AxisState {
     AxisState {
-        stamp: stamp_from_secs(t),
+        stamp,
         name: a.name.clone(),
         motion_state: a.motion_state as u8,
         state_dword: a.state_dword,
@@ -51,12 +52,12 @@ pub fn axis_state(a: &AxisStatus, t: f64) -> AxisState {
 /// All axes as `motion_msgs/AxisStateArray`.
 pub fn axis_state_array(s: &Stamped<AxisSnapshot>) -> AxisStateArray {
     AxisStateArray {
-        stamp: stamp_from_secs(s.sim_time),
+        stamp: stamp(s),
         axes: s
             .state
             .axes
             .iter()
-            .map(|a| axis_state(a, s.sim_time))
+            .map(|a| axis_state(a, stamp(s)))
             .collect(),
     }
 }
@@ -66,7 +67,7 @@ pub fn axis_state_array(s: &Stamped<AxisSnapshot>) -> AxisStateArray {
 pub fn joint_state(s: &Stamped<AxisSnapshot>) -> JointState {
     JointState {
         header: Header {
-            stamp: stamp_from_secs(s.sim_time),
+            stamp: stamp(s),
             frame_id: String::new(),
         },
         name: s.state.axes.iter().map(|a| a.name.clone()).collect(),
@@ -91,7 +92,7 @@ pub(crate) fn register_topics(
             &format!("~/axes/{name}/state"),
             AxisState::type_name(),
             move |s| match s.state.axes.get(i) {
-                Some(a) => axis_state(a, s.sim_time),
+                Some(a) => axis_state(a, stamp(s)),
                 None => AxisState::default(),
             },
         )?;

@@ -18,7 +18,7 @@ use axis_engine::{AxisEngine, AxisSnapshot};
 use motion_core::{CommandEvent, CommandState, Engine};
 use motion_msgs::msg::AxisEvent;
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::{private_name, stamp_from_secs};
+use motion_runtime::shell::{private_name, stamp};
 use motion_runtime::{CommandLabel, NodeShell, ShellError};
 use ros2_client::qos::{Durability, History, QosProfile};
 use std::time::Duration;
@@ -267,7 +267,7 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
         loop {
             let (batch, t) = tokio::select! {
                 a = acks.recv() => match a {
-                    Some((ev, label)) => (orders.of(&ev, &label), handle.snapshot().sim_time),
+                    Some((ev, label)) => (orders.of(&ev, &label), stamp(&handle.snapshot())),
                     None => break,
                 },
                 _ = tick.tick() => {
@@ -276,13 +276,13 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
                         continue;
                     }
                     let batch = diff(&prev.state, &next.state);
-                    let t = next.sim_time;
+                    let t = stamp(&next);
                     prev = next;
                     (batch, t)
                 }
             };
             for mut e in batch {
-                e.stamp = stamp_from_secs(t);
+                e.stamp = t.clone();
                 e.seq = seq;
                 seq += 1;
                 if let Err(e) = publisher.async_publish(e).await {

@@ -15,6 +15,7 @@ use motion_msgs::msg::FbOut;
 use motion_msgs::srv::{
     FbCycle, FbCycleRequest, FbCycleResponse, SubmitBatch, SubmitBatchRequest, SubmitBatchResponse,
 };
+use motion_runtime::shell::stamp_ns;
 use motion_runtime::{CommandLabel, ControllerHandle, NodeShell, ShellError};
 use std::sync::Arc;
 
@@ -115,14 +116,15 @@ async fn answer(handle: &ControllerHandle<AxisEngine>, req: FbCycleRequest) -> F
         Ok(c) => c,
         Err(r) => return refused(r),
     };
+    let clock = handle.clock().clone();
     let done = handle
         .cycle_with(move |e: &mut AxisEngine, tick, events| {
             let outs = e.fb_cycle(tick, &calls, events);
-            let t = (tick.index + 1) as f64 * tick.dt;
+            let t = stamp_ns(clock.at((tick.index + 1) as f64 * tick.dt));
             let axes = motion_core::Engine::snapshot(e)
                 .axes
                 .iter()
-                .map(|a| axis_state(a, t))
+                .map(|a| axis_state(a, t.clone()))
                 .collect();
             (outs, tick.index + 1, axes)
         })

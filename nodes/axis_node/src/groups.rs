@@ -23,18 +23,19 @@ use axis_engine::{
 };
 use motion_core::{CmdId, CommandState, ExecuteOutputs, Rejection};
 use motion_msgs::action::*;
+use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::msg::AxesGroupState;
 use motion_msgs::srv::*;
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::stamp_from_secs;
+use motion_runtime::shell::stamp;
 use motion_runtime::{ActionBinding, CommandLabel, NodeShell, ShellError};
 use ros2_client::{ActionTypeName, Message, ServiceTypeName};
 use std::sync::{Arc, Mutex};
 
 /// The group's state as `motion_msgs/AxesGroupState`.
-pub fn group_state(s: &GroupStatus, t: f64) -> AxesGroupState {
+pub fn group_state(s: &GroupStatus, stamp: Time) -> AxesGroupState {
     AxesGroupState {
-        stamp: stamp_from_secs(t),
+        stamp,
         name: s.name.clone(),
         state: s.state as u8,
         constant_velocity: s.constant_velocity,
@@ -98,7 +99,7 @@ where
     Req: Message + Clone + Send + Sync + 'static,
     Resp: Message + Send + Sync + 'static,
     D: Fn(String, Req) -> Result<GroupCommand, Rejection> + Send + Sync + 'static,
-    A: Fn(Outcome, f64) -> Resp + Send + Sync + 'static,
+    A: Fn(Outcome, Time) -> Resp + Send + Sync + 'static,
 {
     let handle = shell.handle.clone();
     let g = group.to_string();
@@ -116,7 +117,7 @@ where
                         .await
                 }
             };
-            answer(o, handle.snapshot().sim_time)
+            answer(o, stamp(&handle.snapshot()))
         }
     })
 }
@@ -276,7 +277,7 @@ fn register_reads(shell: &mut NodeShell<AxisEngine>, group: &str) -> Result<(), 
             }
         },
     )?;
-    let values = |o: Outcome, _t: f64| {
+    let values = |o: Outcome, _t: Time| {
         let (o, v) = group_value(o);
         AxesGroupReadActualResponse {
             values: match v {
@@ -589,7 +590,7 @@ pub(crate) fn register(
             &format!("~/groups/{group}/state"),
             AxesGroupState::type_name(),
             move |s| match s.state.groups.get(i) {
-                Some(gs) => group_state(gs, s.sim_time),
+                Some(gs) => group_state(gs, stamp(s)),
                 None => AxesGroupState::default(),
             },
         )?;

@@ -8,9 +8,10 @@ use crate::services::{label, respond};
 use axis_engine::platform::{OperatingMode, PlatformReply, PlatformStatus, SafetyFunction};
 use axis_engine::{AxisCommand, AxisEngine, PlatformCommand, PlatformProfile, ReplyValue};
 use motion_core::Rejection;
+use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::msg::{PlatformAxisStatus, PlatformMcMessage};
 use motion_msgs::srv::*;
-use motion_runtime::shell::stamp_from_secs;
+use motion_runtime::shell::stamp;
 use motion_runtime::{CommandLabel, NodeShell, ShellError};
 
 type Decoded = Result<(AxisCommand, CommandLabel), Rejection>;
@@ -20,9 +21,9 @@ fn platform(object: &str, command: &str, c: PlatformCommand) -> Decoded {
 }
 
 /// The platform state as `motion_msgs/PlatformStatus`.
-pub fn platform_status(p: &PlatformStatus, t: f64) -> motion_msgs::msg::PlatformStatus {
+pub fn platform_status(p: &PlatformStatus, stamp: Time) -> motion_msgs::msg::PlatformStatus {
     motion_msgs::msg::PlatformStatus {
-        stamp: stamp_from_secs(t),
+        stamp,
         profile: match p.profile {
             PlatformProfile::Tc2Mc2 => motion_msgs::msg::PlatformStatus::PROFILE_TC2_MC2,
             PlatformProfile::IsgMcp => motion_msgs::msg::PlatformStatus::PROFILE_ISG_MCP,
@@ -242,6 +243,6 @@ pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellErr
     shell.state_publisher(
         "~/platform/status",
         motion_msgs::msg::PlatformStatus::type_name(),
-        |s| platform_status(&s.state.platform, s.sim_time),
+        |s| platform_status(&s.state.platform, stamp(s)),
     )
 }

@@ -7,7 +7,9 @@ use axis_engine::{
     AxisCommand, AxisEngine, AxisReply, ExtraOutputs, FbKind, MotionState, ReplyValue,
 };
 use motion_core::{CmdId, Rejection};
+use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::srv::*;
+use motion_runtime::shell::stamp;
 use motion_runtime::{NodeShell, ShellError};
 
 /// Serves a read: `build` makes the engine call, `answer` the response from its outcome and
@@ -17,7 +19,7 @@ fn read_service<Req, Resp>(
     name: &str,
     ty: ros2_client::ServiceTypeName,
     build: fn(Req) -> AxisCommand,
-    answer: fn(Result<AxisReply, Rejection>, f64) -> Resp,
+    answer: fn(Result<AxisReply, Rejection>, Time) -> Resp,
 ) -> Result<(), ShellError>
 where
     Req: ros2_client::Message + Clone + Send + Sync + 'static,
@@ -28,7 +30,7 @@ where
         let handle = handle.clone();
         async move {
             let o = handle.call(build(r)).await;
-            answer(o, handle.snapshot().sim_time)
+            answer(o, stamp(&handle.snapshot()))
         }
     })
 }
@@ -41,7 +43,7 @@ fn unexpected(v: &ReplyValue) -> Rejection {
     )
 }
 
-fn read_status(o: Result<AxisReply, Rejection>, t: f64) -> ReadStatusResponse {
+fn read_status(o: Result<AxisReply, Rejection>, t: Time) -> ReadStatusResponse {
     let s = match o.map(|r| r.value) {
         Ok(ReplyValue::Status(s)) => s,
         Ok(v) => {
@@ -79,7 +81,7 @@ fn read_status(o: Result<AxisReply, Rejection>, t: f64) -> ReadStatusResponse {
     }
 }
 
-fn read_axis_error(o: Result<AxisReply, Rejection>, _t: f64) -> ReadAxisErrorResponse {
+fn read_axis_error(o: Result<AxisReply, Rejection>, _t: Time) -> ReadAxisErrorResponse {
     match o.map(|r| r.value) {
         Ok(ReplyValue::DWord(e)) => ReadAxisErrorResponse {
             accepted: true,
@@ -99,7 +101,7 @@ fn read_axis_error(o: Result<AxisReply, Rejection>, _t: f64) -> ReadAxisErrorRes
     }
 }
 
-fn read_actual_position(o: Result<AxisReply, Rejection>, _t: f64) -> ReadActualPositionResponse {
+fn read_actual_position(o: Result<AxisReply, Rejection>, _t: Time) -> ReadActualPositionResponse {
     match o.map(|r| r.value) {
         Ok(ReplyValue::Real(p)) => ReadActualPositionResponse {
             accepted: true,
@@ -119,7 +121,7 @@ fn read_actual_position(o: Result<AxisReply, Rejection>, _t: f64) -> ReadActualP
     }
 }
 
-fn read_actual_velocity(o: Result<AxisReply, Rejection>, _t: f64) -> ReadActualVelocityResponse {
+fn read_actual_velocity(o: Result<AxisReply, Rejection>, _t: Time) -> ReadActualVelocityResponse {
     match o.map(|r| r.value) {
         Ok(ReplyValue::Real(v)) => ReadActualVelocityResponse {
             accepted: true,
@@ -181,7 +183,7 @@ fn extra_outputs(x: Option<ExtraOutputs>) -> GetOutputsResponse {
     r
 }
 
-fn get_outputs(o: Result<AxisReply, Rejection>, _t: f64) -> GetOutputsResponse {
+fn get_outputs(o: Result<AxisReply, Rejection>, _t: Time) -> GetOutputsResponse {
     let out = match o.map(|r| r.value) {
         Ok(ReplyValue::Outputs(out)) => out,
         Ok(ReplyValue::Ca(v)) if crate::ca::get_outputs(&v).is_some() => {

@@ -2,7 +2,7 @@
 //! `~/events` and the RViz view `~/markers` (frame [`FRAME`], metres).
 
 use crate::cell::{Cell, CellSnapshot, EventBatch};
-use motion_msgs::deps::builtin_interfaces::msg::Duration;
+use motion_msgs::deps::builtin_interfaces::msg::{Duration, Time};
 use motion_msgs::deps::geometry_msgs::msg::{Point, Pose, Quaternion, Vector3};
 use motion_msgs::deps::std_msgs::msg::{ColorRGBA, Header};
 use motion_msgs::deps::visualization_msgs::msg::{Marker, MarkerArray};
@@ -10,7 +10,7 @@ use motion_msgs::msg::{
     BeltWorkpiece, BeltWorkpieces, PickPlaceBelt, PickPlaceEvent, PickPlaceState,
 };
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::{resolve_name, stamp_from_secs};
+use motion_runtime::shell::{resolve_name, stamp, stamp_ns};
 use motion_runtime::{NodeShell, ShellError};
 use pickplace_engine::belt::WorkpieceEventKind;
 use pickplace_engine::snapshot::{BeltSnapshot, ProfilePhase, WorkpieceSnapshot};
@@ -59,7 +59,7 @@ pub fn state(s: &Stamped<CellSnapshot>) -> PickPlaceState {
     let o = &c.outputs;
     let p = c.active_profile;
     PickPlaceState {
-        stamp: stamp_from_secs(s.sim_time),
+        stamp: stamp(s),
         cycle: s.cycle,
         state: c.state as u8,
         tcp_x: c.tcp[0],
@@ -142,7 +142,7 @@ pub fn state(s: &Stamped<CellSnapshot>) -> PickPlaceState {
 /// `~/workpieces`: every tracked workpiece of every belt.
 pub fn workpieces(s: &Stamped<CellSnapshot>) -> BeltWorkpieces {
     BeltWorkpieces {
-        stamp: stamp_from_secs(s.sim_time),
+        stamp: stamp(s),
         workpieces: s
             .state
             .cell
@@ -153,10 +153,10 @@ pub fn workpieces(s: &Stamped<CellSnapshot>) -> BeltWorkpieces {
     }
 }
 
-/// One cell event as `motion_msgs/PickPlaceEvent` (`t` = simulated time of its cycle).
-pub fn event(e: &CellEvent, t: f64) -> PickPlaceEvent {
+/// One cell event as `motion_msgs/PickPlaceEvent` (`stamp` = ROS time of its cycle).
+pub fn event(e: &CellEvent, stamp: Time) -> PickPlaceEvent {
     let base = PickPlaceEvent {
-        stamp: stamp_from_secs(t),
+        stamp,
         ..Default::default()
     };
     match *e {
@@ -253,7 +253,7 @@ fn rotate_zyx(a_deg: f64, b_deg: f64, c_deg: f64, v: [f64; 3]) -> [f64; 3] {
 /// `path`; deleted when no path runs).
 pub fn markers(s: &Stamped<CellSnapshot>) -> MarkerArray {
     let header = Header {
-        stamp: stamp_from_secs(s.sim_time),
+        stamp: stamp(s),
         frame_id: FRAME.into(),
     };
     let c = &s.state.cell;
@@ -416,10 +416,12 @@ fn register_events(
         .node
         .create_publisher::<PickPlaceEvent>(&topic, None)
         .map_err(|e| ShellError(format!("publisher ~/events: {e:?}")))?;
+    let handle = shell.handle.clone();
     shell.spawn(async move {
         while let Some((t, batch)) = events.recv().await {
+            let at = stamp_ns(handle.snapshot().ros_time_at(t));
             for e in &batch {
-                if let Err(err) = publisher.async_publish(event(e, t)).await {
+                if let Err(err) = publisher.async_publish(event(e, at.clone())).await {
                     tracing::warn!("events publish failed: {err:?}");
                 }
             }
@@ -461,7 +463,7 @@ mod tests {
                 from: TmState::Ready,
                 to: TmState::MovePp,
             },
-            0.008,
+            stamp_ns(8_000_000),
         );
         assert_eq!(
             (e.cycle, e.kind, e.from_state, e.to_state),
@@ -473,7 +475,7 @@ mod tests {
                 cycle: 3,
                 kind: GripperEvent::Open,
             },
-            0.0,
+            stamp_ns(0),
         );
         assert_eq!(
             (e.kind, e.gripper),
@@ -489,7 +491,7 @@ mod tests {
                 id: 11,
                 kind: WorkpieceEventKind::Missed,
             },
-            0.0,
+            stamp_ns(0),
         );
         assert_eq!(
             (e.kind, e.belt, e.workpiece_id, e.workpiece_event),
@@ -506,7 +508,7 @@ mod tests {
                 id: 17918,
                 error: false,
             },
-            0.0,
+            stamp_ns(0),
         );
         assert_eq!(
             (e.kind, e.diagnostic_id, e.error),

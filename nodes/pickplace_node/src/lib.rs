@@ -249,6 +249,7 @@ mod tests {
         let m = convert::markers(&motion_runtime::cycle::Stamped {
             cycle: 0,
             sim_time: 0.0,
+            ros_time_ns: 0,
             state: c.snapshot(),
         });
         let belt1 = &m.markers[0];

@@ -16,7 +16,7 @@ use motion_msgs::msg::{
     PlanarEnvironmentState, PlanarGroupState, PlanarMoverState, PlanarPartState, PlanarState,
 };
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::stamp_from_secs;
+use motion_runtime::shell::stamp;
 use motion_runtime::{NodeShell, ShellError};
 use planar_engine::{MoverSnapshot, PlanarConfig, PlanarEngine, PlanarSnapshot};
 use std::sync::Arc;
@@ -115,7 +115,7 @@ pub fn planar_state(s: &Stamped<PlanarSnapshot>) -> PlanarState {
     let st = &s.state;
     let e = &st.environment;
     PlanarState {
-        stamp: stamp_from_secs(s.sim_time),
+        stamp: stamp(s),
         environment: PlanarEnvironmentState {
             name: e.name.clone(),
             oid: e.oid,
@@ -195,7 +195,7 @@ fn header(t: Time) -> Header {
 /// as in `~/state`).
 pub fn mover_poses(s: &Stamped<PlanarSnapshot>) -> PoseArray {
     PoseArray {
-        header: header(stamp_from_secs(s.sim_time)),
+        header: header(stamp(s)),
         poses: s.state.movers.iter().map(mover_pose).collect(),
     }
 }
@@ -270,7 +270,7 @@ fn boundary_lines(tiles: &[[f64; 2]], z: f64) -> Vec<Point> {
 /// grey otherwise), the tracks (ns `tracks`, [`crate::tracks::track_markers`]), each mover as a box of its configured size coloured by its state (ns
 /// `movers`, id = configuration index) with its name above it (ns `mover_names`).
 pub fn markers(geometry: &Geometry, s: &Stamped<PlanarSnapshot>) -> MarkerArray {
-    let h = header(stamp_from_secs(s.sim_time));
+    let h = header(stamp(s));
     let tiles = geometry.stators(&s.state);
     let mut out = Vec::with_capacity(2 + 2 * s.state.movers.len() + s.state.tracks.len());
     let action = |empty: bool| if empty { Marker::DELETE } else { Marker::ADD };
@@ -397,6 +397,7 @@ mod tests {
             Stamped {
                 cycle: 0,
                 sim_time: 0.0,
+                ros_time_ns: 0,
                 state: motion_core::Engine::snapshot(&e),
             },
         )
@@ -492,6 +493,7 @@ movers: [{name: m1, initial_pose: {x: 120, y: 120, c: 90}, width: 155, height: 1
         let s = Stamped {
             cycle: 0,
             sim_time: 0.0,
+            ros_time_ns: 0,
             state: e.snapshot(),
         };
         let a = markers(&g, &s);

@@ -1241,6 +1241,7 @@ axes: [{name: v1}]
         let snap = Stamped {
             cycle: 0,
             sim_time: 0.0,
+            ros_time_ns: 0,
             state: s.snap(),
         };
         let paths = TrackPaths::default();
@@ -1266,6 +1267,7 @@ axes: [{name: v1}]
         let m = crate::convert::planar_state(&Stamped {
             cycle: 0,
             sim_time: 0.0,
+            ros_time_ns: 0,
             state: s.snap(),
         });
         assert_eq!(m.tracks[0].name, "loop");

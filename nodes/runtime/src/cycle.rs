@@ -11,6 +11,7 @@
 //! Read-only queries ([`ControllerHandle::query`]) run on the cycle thread between cycles, never
 //! inside the timed part of a step: no command id, no event, no effect on the engine (`&E`).
 
+use crate::clock::{RosClock, TimeSource};
 use crate::shell::{CommandLabel, CommandRegistry};
 use crate::stats::{CycleStats, StatsRecorder};
 use motion_core::{CmdId, CommandEvent, Engine, ErrorId, Rejection, Tick};
@@ -69,8 +70,17 @@ pub struct Stamped<S> {
     pub cycle: u64,
     /// Simulated time [s] = cycle × period (the engine's time base).
     pub sim_time: f64,
+    /// The node's ROS time of this snapshot [ns since the epoch] (see [`crate::clock`]).
+    pub ros_time_ns: i64,
     /// The engine's snapshot.
     pub state: S,
+}
+
+impl<S> Stamped<S> {
+    /// ROS time [ns] of simulated time `t` (e.g. an event of an earlier cycle).
+    pub fn ros_time_at(&self, t: f64) -> i64 {
+        self.ros_time_ns + ((t - self.sim_time) * 1e9).round() as i64
+    }
 }
 
 type CommandReply<E> = oneshot::Sender<Result<<E as Engine>::Reply, Rejection>>;
@@ -123,6 +133,7 @@ pub struct ControllerHandle<E: Engine> {
     config: Arc<CycleConfig>,
     stop: Arc<AtomicBool>,
     labels: Arc<CommandRegistry>,
+    clock: Arc<RosClock>,
 }
 
 impl<E: Engine> Clone for ControllerHandle<E> {
@@ -137,6 +148,7 @@ impl<E: Engine> Clone for ControllerHandle<E> {
             config: self.config.clone(),
             stop: self.stop.clone(),
             labels: self.labels.clone(),
+            clock: self.clock.clone(),
         }
     }
 }
@@ -190,9 +202,14 @@ impl<E: Engine> Controller<E> {
         let (queue, rx) = mpsc::sync_channel(config.queue_capacity.max(1));
         let (queries, query_rx) = mpsc::sync_channel(config.queue_capacity.max(1));
         let (control, control_rx) = mpsc::channel();
+        let clock = Arc::new(RosClock::new(match config.mode {
+            ClockMode::RealTime => TimeSource::System,
+            ClockMode::Lockstep => TimeSource::Simulated,
+        }));
         let first = Arc::new(Stamped {
             cycle: 0,
             sim_time: 0.0,
+            ros_time_ns: clock.at(0.0),
             state: engine.snapshot(),
         });
         let (snap_tx, snapshots) = watch::channel(first);
@@ -229,6 +246,7 @@ impl<E: Engine> Controller<E> {
             wake: wake.clone(),
             free_run: false,
             failsafe,
+            clock: clock.clone(),
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
@@ -247,6 +265,7 @@ impl<E: Engine> Controller<E> {
             config,
             stop,
             labels,
+            clock,
         };
         Ok((
             Controller {
@@ -449,6 +468,11 @@ impl<E: Engine> ControllerHandle<E> {
         self.stats.lock().unwrap_or_else(|e| e.into_inner()).clone()
     }
 
+    /// The node's ROS time (its origin is set by a `use_sim_time` node's `/clock` follower).
+    pub fn clock(&self) -> &Arc<RosClock> {
+        &self.clock
+    }
+
     /// The controller's configuration.
     pub fn config(&self) -> &CycleConfig {
         &self.config
@@ -499,6 +523,8 @@ struct CycleThread<E: Engine> {
     free_run: bool,
     /// This cycle's part in the process's fail-safe stop.
     failsafe: crate::failsafe::Registration,
+    /// The node's ROS time (stamps snapshots).
+    clock: Arc<RosClock>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -634,6 +660,8 @@ impl<E: Engine> CycleThread<E> {
         while let Ok(c) = self.control_rx.try_recv() {
             match c {
                 Control::Step { n: 0, reply } => {
+                    // No cycle, a fresh snapshot (e.g. the ROS time's origin moved).
+                    self.take_snapshot();
                     let _ = reply.send(self.cycle);
                 }
                 Control::Step { n, reply } => pending.push_back((n, reply)),
@@ -717,9 +745,11 @@ impl<E: Engine> CycleThread<E> {
     }
 
     fn take_snapshot(&mut self) {
+        let sim_time = self.cycle as f64 * self.config.period;
         let snap = Stamped {
             cycle: self.cycle,
-            sim_time: self.cycle as f64 * self.config.period,
+            sim_time,
+            ros_time_ns: self.clock.at(sim_time),
             state: self.engine.snapshot(),
         };
         self.snap_tx.send_replace(Arc::new(snap));

@@ -20,9 +20,12 @@ pub struct CommonConfig {
     pub cycle_period: f64,
     /// State topic rate [Hz] (default 100).
     pub state_rate: f64,
-    /// Lockstep mode with simulated time (default false; `use_sim_time: true` implies it).
+    /// Lockstep mode: simulated time, the node is the clock (publishes `/clock`, cycles run on
+    /// `~/step`). Default false.
     pub lockstep: bool,
-    /// `use_sim_time` as in ROS: the node's clock follows `/clock`; here it also selects lockstep.
+    /// `use_sim_time` as in ROS: the node's time follows an external `/clock`
+    /// (rosgraph_msgs/Clock), and its cycles run as that clock passes them. Default false;
+    /// excludes `lockstep`.
     pub use_sim_time: bool,
     /// `auto` (from RMW_IMPLEMENTATION), `cyclone`, `enhanced` or `basic`.
     pub service_mapping: String,
@@ -141,8 +144,13 @@ impl CommonConfig {
         }
         shell::service_mapping(Some(&self.service_mapping))
             .map_err(|e| bad("service_mapping", e.0))?;
-        if self.use_sim_time {
-            self.lockstep = true;
+        if self.use_sim_time && self.lockstep {
+            return Err(bad(
+                "use_sim_time",
+                "use_sim_time (follow an external /clock) and lockstep (the node is the clock) \
+                 exclude each other"
+                    .to_string(),
+            ));
         }
         Ok(self)
     }
@@ -152,7 +160,7 @@ impl CommonConfig {
         CycleConfig {
             name: self.name.clone(),
             period: self.cycle_period,
-            mode: if self.lockstep {
+            mode: if self.lockstep || self.use_sim_time {
                 ClockMode::Lockstep
             } else {
                 ClockMode::RealTime
@@ -172,6 +180,7 @@ impl CommonConfig {
             service_mapping: shell::service_mapping(Some(&self.service_mapping))?,
             state_rate: self.state_rate,
             lockstep: self.lockstep,
+            use_sim_time: self.use_sim_time,
             result_timeout: std::time::Duration::from_secs_f64(self.result_timeout),
         })
     }
@@ -185,6 +194,10 @@ impl CommonConfig {
             ),
             ("state_rate".into(), ParameterValue::Double(self.state_rate)),
             ("lockstep".into(), ParameterValue::Boolean(self.lockstep)),
+            (
+                "use_sim_time".into(),
+                ParameterValue::Boolean(self.use_sim_time),
+            ),
             (
                 "service_mapping".into(),
                 ParameterValue::String(self.service_mapping.clone()),
@@ -214,7 +227,9 @@ pub fn parameter_description(name: &str) -> &'static str {
         }
         "queue_capacity" => "commands waiting for the next cycle; a full queue refuses with 0x7F04",
         "result_timeout" => "how long an ended action goal's result is kept for its client [s]",
-        "use_sim_time" => "ROS time from /clock instead of the system clock",
+        "use_sim_time" => {
+            "ROS time and the cycles follow an external /clock (rosgraph_msgs/Clock)"
+        }
         "axes" => "names of the configured axes",
         "platform_profile" => "platform profile: tc2_mc2 (Beckhoff) or isg_mcp (ISG)",
         "ca_groups" => "names of the collision-avoidance groups",

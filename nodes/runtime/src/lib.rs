@@ -1,7 +1,9 @@
-//! The runtime every node uses: the cyclic controller (`cycle`), its statistics (`stats`),
+//! The runtime every node uses: the cyclic controller (`cycle`), its ROS time (`clock`), its
+//! statistics (`stats`),
 //! real-time helpers (`rt`), and the shared ROS 2 shell (`shell`: node creation on loopback,
 //! services and actions with the PLCopen handshake, parameters, /diagnostics, /clock, rosout).
 
+pub mod clock;
 pub mod cycle;
 pub mod failsafe;
 pub mod rt;

@@ -123,6 +123,8 @@ pub struct ShellSettings {
     pub state_rate: f64,
     /// Lockstep mode: publish `/clock` and offer `~/step`.
     pub lockstep: bool,
+    /// `use_sim_time`: the cycles follow an external `/clock` (the controller runs in lockstep).
+    pub use_sim_time: bool,
     /// How long an action keeps an ended goal's result for a client that has not asked yet.
     pub result_timeout: Duration,
 }
@@ -193,22 +195,18 @@ pub fn respond<R: motion_msgs::CommandResponse, T>(
     r
 }
 
-/// Current ROS time of the node as a message stamp.
-pub fn stamp_of(node: &Node) -> Time {
-    let nanos = node.time_now().to_nanos();
+/// A message stamp from ROS time [ns since the epoch].
+pub fn stamp_ns(ns: i64) -> Time {
     Time {
-        sec: nanos.div_euclid(1_000_000_000) as i32,
-        nanosec: nanos.rem_euclid(1_000_000_000) as u32,
+        sec: ns.div_euclid(1_000_000_000) as i32,
+        nanosec: ns.rem_euclid(1_000_000_000) as u32,
     }
 }
 
-/// A stamp from simulated seconds.
-pub fn stamp_from_secs(t: f64) -> Time {
-    let nanos = (t * 1e9).round() as i64;
-    Time {
-        sec: nanos.div_euclid(1_000_000_000) as i32,
-        nanosec: nanos.rem_euclid(1_000_000_000) as u32,
-    }
+/// The stamp of a snapshot: the node's ROS time of its cycle (wall clock when free-running,
+/// simulated time in lockstep or with `use_sim_time`; see [`crate::clock`]).
+pub fn stamp<S>(s: &Stamped<S>) -> Time {
+    stamp_ns(s.ros_time_ns)
 }
 
 /// The absolute ROS name of a private (`~/rel`) name of this node.
@@ -286,12 +284,7 @@ where
         let mut opts = NodeOptions::new()
             .enable_rosout(true)
             .start_parameter_services(true)
-            .parameter_service_mapping(settings.service_mapping)
-            .describe_parameter(
-                "use_sim_time",
-                crate::host::parameter_description("use_sim_time"),
-                false,
-            );
+            .parameter_service_mapping(settings.service_mapping);
         let read_only: Arc<Vec<String>> =
             Arc::new(parameters.iter().map(|(n, _)| n.clone()).collect());
         for (n, v) in parameters {
@@ -347,7 +340,9 @@ where
         if std::env::var("MOTION_FAULT_HOOKS").as_deref() == Ok("1") {
             self.spawn_fault_hook()?;
         }
-        if self.settings.lockstep {
+        if self.settings.use_sim_time {
+            self.spawn_clock_follower()?;
+        } else if self.settings.lockstep {
             self.spawn_clock()?;
             self.spawn_step_service()?;
         }
@@ -391,7 +386,7 @@ where
                 }
                 let o = motion_core::ExecuteOutputs::from(ev.state);
                 let msg = CommandStatus {
-                    stamp: stamp_from_secs(handle.snapshot().sim_time),
+                    stamp: stamp(&handle.snapshot()),
                     command_id: ev.id.0,
                     object: label.object,
                     command: label.command,
@@ -457,7 +452,7 @@ where
             loop {
                 tick.tick().await;
                 let stats = handle.stats();
-                let msg = diagnostics_message(&node_name, &stats, stamp_from_wall());
+                let msg = diagnostics_message(&node_name, &stats, stamp(&handle.snapshot()));
                 if let Err(e) = publisher.async_publish(msg).await {
                     tracing::warn!("diagnostics publish failed: {e:?}");
                 }
@@ -478,12 +473,78 @@ where
         let mut snaps = self.handle.snapshots();
         self.tasks.spawn(async move {
             while snaps.changed().await.is_ok() {
-                let t = snaps.borrow_and_update().sim_time;
-                let _ = publisher
-                    .async_publish(Clock {
-                        clock: stamp_from_secs(t),
-                    })
-                    .await;
+                let t = snaps.borrow_and_update().ros_time_ns;
+                let _ = publisher.async_publish(Clock { clock: stamp_ns(t) }).await;
+            }
+        });
+        Ok(())
+    }
+
+    /// `use_sim_time`: runs the cycles the external `/clock` has passed. The first `/clock`
+    /// time seen becomes the ROS time of the current cycle; after that, a cycle runs when the
+    /// clock passes its time. A clock that goes back is reported once and waited out.
+    fn spawn_clock_follower(&mut self) -> Result<(), ShellError> {
+        use ros2_client::qos::{Durability, History, Reliability};
+        // As rclcpp's ClockQoS: best effort, keep last 1 (matches reliable publishers too).
+        let qos = QosProfile::subscription_default()
+            .reliability(Reliability::BestEffort)
+            .durability(Durability::Volatile)
+            .history(History::KeepLast { depth: 1 });
+        let topic = self
+            .node
+            .create_topic(&absolute_name("/clock")?, Clock::type_name(), &qos)
+            .map_err(err("topic"))?;
+        let clocks = self
+            .node
+            .create_subscription::<Clock>(&topic, None)
+            .map_err(err("subscription"))?;
+        let handle = self.handle.clone();
+        let period_ns = (handle.config().period * 1e9).round() as i64;
+        self.tasks.spawn(async move {
+            let mut origin: Option<(i64, u64)> = None; // (ROS time, cycle) at the first /clock
+            let mut went_back = false;
+            let mut last_ns = i64::MIN;
+            loop {
+                let ns = match clocks.async_take().await {
+                    Ok((c, _)) => {
+                        i64::from(c.clock.sec) * 1_000_000_000 + i64::from(c.clock.nanosec)
+                    }
+                    Err(e) => {
+                        tracing::warn!("/clock: unreadable sample: {e:?}");
+                        continue;
+                    }
+                };
+                let (t0, c0) = match origin {
+                    Some(o) => o,
+                    None => {
+                        let s = handle.snapshot();
+                        handle
+                            .clock()
+                            .set_origin(ns - (s.sim_time * 1e9).round() as i64);
+                        tracing::info!("following /clock from {:.3} s", ns as f64 * 1e-9);
+                        let _ = handle.step(0).await; // state stamped with the new time
+                        *origin.insert((ns, s.cycle))
+                    }
+                };
+                if ns < last_ns {
+                    if !went_back {
+                        tracing::warn!(
+                            "/clock went back; waiting until it passes this cycle again"
+                        );
+                        went_back = true;
+                    }
+                    continue;
+                }
+                went_back = false;
+                last_ns = ns;
+                // Cycles another request ran (an FB cycle) are not run twice.
+                let due = c0 + ((ns - t0) / period_ns) as u64;
+                let now = handle.snapshot().cycle;
+                if due > now {
+                    if let Err(r) = handle.step(due - now).await {
+                        tracing::warn!("following /clock: {r}");
+                    }
+                }
             }
         });
         Ok(())
@@ -1131,15 +1192,5 @@ pub fn diagnostics_message(node: &str, s: &CycleStats, stamp: Time) -> Diagnosti
                 kv("jitter_max_us", us(s.jitter_max)),
             ],
         }],
-    }
-}
-
-fn stamp_from_wall() -> Time {
-    let d = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .unwrap_or_default();
-    Time {
-        sec: d.as_secs() as i32,
-        nanosec: d.subsec_nanos(),
     }
 }

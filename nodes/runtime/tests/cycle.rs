@@ -232,9 +232,35 @@ fn realtime_keeps_the_schedule_without_drift() {
         (got - expected).abs() < 15.0,
         "cycles {got} vs wall {expected}"
     );
+    // Snapshots carry the node's ROS time: the system clock while free-running.
+    let wall_ns = motion_runtime::clock::system_ns();
+    let stamp = h.snapshot().ros_time_ns;
+    assert!(
+        (wall_ns - stamp).abs() < 50_000_000,
+        "stamp {stamp} vs system clock {wall_ns}"
+    );
     let engine = ctl.shutdown().unwrap();
     assert!(engine.dts.iter().all(|dt| *dt == 0.001));
     assert!(h.step(1).now_or_never_is_rejected());
+}
+
+/// In lockstep the node is the clock: ROS time is the simulated time from 0; a `use_sim_time`
+/// follower moves the origin to the external clock.
+#[test]
+fn lockstep_ros_time_is_simulated_time_plus_origin() {
+    rt().block_on(async {
+        let (ctl, _events) = Controller::spawn(counter(), lockstep(0.002, 8), |r| *r).unwrap();
+        let h = ctl.handle();
+        assert_eq!(h.step(250).await.unwrap(), 250);
+        assert_eq!(h.snapshot().ros_time_ns, 500_000_000);
+        h.clock().set_origin(1_700_000_000_000_000_000);
+        h.step(1).await.unwrap();
+        let s = h.snapshot();
+        assert_eq!(s.ros_time_ns, 1_700_000_000_502_000_000);
+        // An event of an earlier cycle is stamped back by its simulated age.
+        assert_eq!(s.ros_time_at(0.5), 1_700_000_000_500_000_000);
+        ctl.shutdown().unwrap();
+    });
 }
 
 trait NowOrNever {
