@@ -10,6 +10,8 @@ export CARGO_TERM_COLOR=${CARGO_TERM_COLOR:-never}
 export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}
 # setup.sh installed cyclonedds: the Rust/Python CDR cross-check must run, not skip.
 export MOTION_MSGS_REQUIRE_CYCLONEDDS=1
+# setup.sh built the rclpy venv: the rclpy suite must run, not skip.
+export MOTION_REQUIRE_RCLPY=1
 cargo build --workspace --all-targets --quiet
 echo "== disk: target $(du -sh target 2>/dev/null | cut -f1), free $(df -h . | awk 'NR==2 {print $4}')"
 echo "== benchmark smoke runs"

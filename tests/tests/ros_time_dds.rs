@@ -28,6 +28,9 @@ async fn free_running_stamps_are_the_system_clock() {
     let mut client = ClientNode::new(domain, "stamp_client", ServiceMapping::Cyclone);
     let states =
         client.subscribe::<AxisStateArray>("/axis_node/axis_states", AxisStateArray::type_name());
+    // Every stamp is the system clock (not a time counted from the node's start); the median
+    // age is within 50 ms (state rate 100 Hz plus delivery, on a loaded 2-core machine).
+    let mut ages = Vec::new();
     for k in 0..20 {
         let (mut s, _) = within(20.0, "axis_states", states.async_take())
             .await
@@ -38,12 +41,19 @@ async fn free_running_stamps_are_the_system_clock() {
         }
         let age = system_ns() - ns(&s.stamp);
         assert!(
-            (-5_000_000..50_000_000).contains(&age),
+            (-5_000_000..1_000_000_000).contains(&age),
             "sample {k}: stamp is {} ms from the system clock",
             age as f64 * 1e-6
         );
         assert_eq!(ns(&s.axes[0].stamp), ns(&s.stamp));
+        ages.push(age);
     }
+    ages.sort_unstable();
+    assert!(
+        ages[10] < 50_000_000,
+        "median stamp age {} ms",
+        ages[10] as f64 * 1e-6
+    );
 }
 
 /// `use_sim_time`: the first `/clock` (1000 s) becomes the time of the current cycle, and a

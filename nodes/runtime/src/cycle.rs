@@ -251,6 +251,7 @@ impl<E: Engine> Controller<E> {
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
             .spawn(move || {
+                let _in_node = crate::logging::node_span(&cycle.config.name).entered();
                 cycle.failsafe.enter_thread();
                 cycle.run();
                 cycle.engine

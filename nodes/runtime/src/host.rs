@@ -331,13 +331,16 @@ where
         let mut params = common.parameters();
         params.extend(extra_parameters);
         let mut shell = NodeShell::new(&context, common.shell()?, controller.handle(), params)?;
-        crate::logging::route_to_rosout(kind, shell.node.logging_handle());
+        crate::logging::route_to_rosout(&common.name, shell.node.logging_handle());
+        let span = crate::logging::node_span(&common.name);
+        let _in_node = span.enter();
         setup(&mut shell)?;
         shell.start_common(events)?;
         tracing::info!(
-            node = %common.name,
+            kind,
             period = common.cycle_period,
             lockstep = common.lockstep,
+            use_sim_time = common.use_sim_time,
             "node started"
         );
         Ok(NodeHost {
@@ -357,6 +360,7 @@ impl<E: Engine> NodeHost<E> {
     /// Stops in order: ROS tasks and node, then the cycle, then the DDS participant.
     pub async fn stop(mut self) {
         if let Some(s) = self.shell.take() {
+            crate::logging::unroute(&s.settings.node_name);
             s.stop().await;
         }
         self.controller.take();

@@ -1,5 +1,8 @@
-//! Logging: `tracing` to stderr, and events of our node crates also to `/rosout`
-//! (rcl_interfaces/Log) through the node's logging handle, as rclcpp nodes do.
+//! Logging: `tracing` to stderr, and every event logged on behalf of a node also to `/rosout`
+//! (rcl_interfaces/Log, with the node's name) through the node's logging handle, as rclcpp
+//! nodes do. "On behalf of a node" = inside that node's span ([`node_span`]): its ROS tasks,
+//! its cycle thread and its start-up run in it, so runtime lines (start-up, refused commands,
+//! errors) reach `/rosout` as well as the node crates' own.
 
 use ros2_client::log::LogLevel;
 use ros2_client::rosout::{NodeLoggingHandle, RosoutRaw};
@@ -17,6 +20,11 @@ pub const DEFAULT_FILTER: &str =
 
 type Routes = Mutex<Vec<(String, NodeLoggingHandle)>>;
 
+/// The span of a node's work; events inside it go to that node's `/rosout`.
+pub fn node_span(node_name: &str) -> tracing::Span {
+    tracing::info_span!("node", name = %node_name)
+}
+
 fn routes() -> &'static Routes {
     static ROUTES: OnceLock<Routes> = OnceLock::new();
     ROUTES.get_or_init(|| Mutex::new(Vec::new()))
@@ -33,16 +41,25 @@ pub fn init() {
         .try_init();
 }
 
-/// Sends events whose target starts with `target_prefix` (a crate name such as `axis_node`)
-/// to that node's `/rosout`.
-pub fn route_to_rosout(target_prefix: &str, handle: NodeLoggingHandle) {
+/// Sends events inside the span of node `node_name` ([`node_span`]) to that node's `/rosout`.
+pub fn route_to_rosout(node_name: &str, handle: NodeLoggingHandle) {
+    let mut r = routes().lock().unwrap_or_else(|e| e.into_inner());
+    r.retain(|(n, _)| n != node_name); // a restarted node replaces its old handle
+    r.push((node_name.to_string(), handle));
+}
+
+/// Stops routing to `node_name`'s `/rosout` (the node is going away).
+pub fn unroute(node_name: &str) {
     routes()
         .lock()
         .unwrap_or_else(|e| e.into_inner())
-        .push((target_prefix.to_string(), handle));
+        .retain(|(n, _)| n != node_name);
 }
 
 struct RosoutLayer;
+
+/// The node name recorded on a node span.
+struct NodeName(String);
 
 struct MessageVisitor(String);
 
@@ -57,20 +74,43 @@ impl Visit for MessageVisitor {
     }
 }
 
-impl<S: Subscriber> Layer<S> for RosoutLayer {
-    fn on_event(&self, event: &Event<'_>, _ctx: Context<'_, S>) {
+impl<S> Layer<S> for RosoutLayer
+where
+    S: Subscriber + for<'a> tracing_subscriber::registry::LookupSpan<'a>,
+{
+    fn on_new_span(
+        &self,
+        attrs: &tracing::span::Attributes<'_>,
+        id: &tracing::span::Id,
+        ctx: Context<'_, S>,
+    ) {
+        if attrs.metadata().name() != "node" {
+            return;
+        }
+        let mut v = MessageVisitor(String::new());
+        attrs.record(&mut NameVisitor(&mut v.0));
+        if let Some(span) = ctx.span(id) {
+            span.extensions_mut().insert(NodeName(v.0));
+        }
+    }
+
+    fn on_event(&self, event: &Event<'_>, ctx: Context<'_, S>) {
         let meta = event.metadata();
         // ros2_client logs every rosout message to tracing too: never route it back.
         if meta.target().starts_with("ros2_client") || meta.target().starts_with("rustdds") {
             return;
         }
+        let Some(node) = ctx.event_scope(event).and_then(|scope| {
+            scope
+                .from_root()
+                .find_map(|span| span.extensions().get::<NodeName>().map(|n| n.0.clone()))
+        }) else {
+            return;
+        };
         let Ok(routes) = routes().try_lock() else {
             return;
         };
-        let Some((_, handle)) = routes
-            .iter()
-            .find(|(p, _)| meta.target().starts_with(p.as_str()))
-        else {
+        let Some((_, handle)) = routes.iter().find(|(n, _)| *n == node) else {
             return;
         };
         let mut v = MessageVisitor(String::new());
@@ -91,5 +131,22 @@ impl<S: Subscriber> Layer<S> for RosoutLayer {
             meta.module_path().unwrap_or(""),
             meta.line().unwrap_or(0),
         );
+    }
+}
+
+/// Reads the `name` field of a node span.
+struct NameVisitor<'a>(&'a mut String);
+
+impl Visit for NameVisitor<'_> {
+    fn record_str(&mut self, field: &Field, value: &str) {
+        if field.name() == "name" {
+            self.0.push_str(value);
+        }
+    }
+    fn record_debug(&mut self, field: &Field, value: &dyn std::fmt::Debug) {
+        use std::fmt::Write;
+        if field.name() == "name" {
+            let _ = write!(self.0, "{value:?}");
+        }
     }
 }

@@ -190,7 +190,10 @@ pub fn respond<R: motion_msgs::CommandResponse, T>(
     let mut r = R::default();
     match o {
         Ok(reply) => r.answer(true, id(reply).0, 0, String::new()),
-        Err(e) => r.answer(false, 0, e.error_id.0, e.message.clone()),
+        Err(e) => {
+            tracing::info!("refused ({:#06x}): {}", e.error_id.0, e.message);
+            r.answer(false, 0, e.error_id.0, e.message.clone())
+        }
     }
     r
 }
@@ -312,12 +315,13 @@ where
             .new_node(name, opts)
             .map_err(err("creating the node"))?;
         running.store(true, std::sync::atomic::Ordering::SeqCst);
+        let tasks = TaskSet::new(crate::logging::node_span(&settings.node_name));
         Ok(NodeShell {
             node,
             registry: handle.labels(),
             handle,
             settings,
-            tasks: TaskSet::default(),
+            tasks,
             spinner: None,
             taps: Vec::new(),
         })
@@ -879,13 +883,20 @@ impl<E: Engine> Drop for NodeShell<E> {
 
 /// The tasks of a node, including per-request and per-goal children, so that shutdown can
 /// abort and await all of them (each may hold a DDS server or publisher).
-#[derive(Clone, Default)]
-pub struct TaskSet(Arc<Mutex<Vec<JoinHandle<()>>>>);
+/// Every task runs in the node's span, so its log lines reach the node's `/rosout`.
+#[derive(Clone)]
+pub struct TaskSet(Arc<Mutex<Vec<JoinHandle<()>>>>, tracing::Span);
 
 impl TaskSet {
+    /// An empty set whose tasks run in `span`.
+    pub fn new(span: tracing::Span) -> Self {
+        TaskSet(Arc::default(), span)
+    }
+
     /// Spawns a task on the current runtime and keeps its handle (finished ones are pruned).
     pub fn spawn(&self, fut: impl Future<Output = ()> + Send + 'static) {
-        let h = tokio::spawn(fut);
+        use tracing::Instrument;
+        let h = tokio::spawn(fut.instrument(self.1.clone()));
         let mut v = self.0.lock().unwrap_or_else(|e| e.into_inner());
         v.retain(|t| !t.is_finished());
         v.push(h);

@@ -55,7 +55,9 @@ pub mod rosout {
       .deadline(Deadline(Duration::INFINITE))
       .ownership(Ownership::Shared)
       .reliable(Duration::ZERO)
-      .history(History::KeepLast { depth: 1 })
+      // motion-suite patch: rcl's rosout profile keeps 1000 (a late reader gets the last
+      // 10 s of lines, not only the very last one).
+      .history(History::KeepLast { depth: 1000 })
       .lifespan(Lifespan {
         duration: Duration::from_secs(10)
       })

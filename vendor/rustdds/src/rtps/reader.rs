@@ -1434,7 +1434,19 @@ impl Reader {
       AckNack {
         reader_id: self.entity_id(),
         writer_id: remote_writer_guid.entity_id,
-        reader_sn_state: SequenceNumberSet::new_empty(SequenceNumber::new(1)),
+        // motion-suite patch: Fast DDS writers take only base 0 (empty set) for the
+        // pre-emptive ACKNACK and answer it with a HEARTBEAT at once, so samples sent
+        // before this match are repaired now; base 1 merely restarted their heartbeat
+        // period (3 s). Cyclone writers answer at once only to base 1 (base 0 waited for
+        // their next heartbeat, 100 ms). Fast DDS puts its vendor id (1.15) in the first
+        // two bytes of every GUID prefix.
+        reader_sn_state: SequenceNumberSet::new_empty(SequenceNumber::new(
+          if remote_writer_guid.prefix.bytes[..2] == [0x01, 0x0f] {
+            0
+          } else {
+            1
+          },
+        )),
         count: acknack_count,
       },
       InfoDestination {
