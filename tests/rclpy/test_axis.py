@@ -2,6 +2,7 @@
 feedback, result and cancel, a goal that fails screening, joint_states, /diagnostics, /rosout,
 and header stamps on the system clock."""
 
+import math
 import time
 
 import pytest
@@ -18,7 +19,7 @@ from conftest import call, launch, spin_until, take
 from motion_msgs.action import MoveAbsolute as MoveAbsoluteAction
 from motion_msgs.action import MoveVelocity as MoveVelocityAction
 from motion_msgs.msg import AxisStateArray
-from motion_msgs.srv import MoveAbsolute, Power
+from motion_msgs.srv import MoveAbsolute, Power, ReadActualPosition
 
 CONFIG = """
 nodes:
@@ -32,6 +33,7 @@ nodes:
         deceleration: 10000.0
         jerk: 100000.0
       table:
+        joint_type: revolute
         max_velocity: 720.0
         acceleration: 3600.0
         deceleration: 3600.0
@@ -227,3 +229,17 @@ def test_diagnostics(node):
     assert keys["period_us"] == "1000.0" and int(keys["cycles"]) > 0
     age = rnode.get_clock().now().nanoseconds - stamp_ns(d.header.stamp)
     assert -5e6 < age < 1.1e9
+
+
+def test_joint_states_are_in_si_units(node):
+    """REP-103: the prismatic x (mm) in m, the revolute table (deg) in rad."""
+    rnode, ex, _ = node
+    call(rnode, ex, Power, "/axis_node/power", axis="table", enable=True,
+         enable_positive=True, enable_negative=True, override=100.0)
+    r = call(rnode, ex, MoveAbsolute, "/axis_node/move_absolute", axis="table",
+             position=90.0, velocity=360.0)
+    assert r.accepted, r.message
+    js = take(rnode, ex, JointState, "/joint_states", timeout=20,
+              cond=lambda m: abs(m.position[1] - math.pi / 2) < 1e-9 and m.velocity[1] == 0.0)
+    x = call(rnode, ex, ReadActualPosition, "/axis_node/read_actual_position", axis="x")
+    assert abs(js.position[0] - x.position * 1e-3) < 1e-12, (js.position, x.position)

@@ -71,3 +71,20 @@ fn errors_name_the_key_and_the_problem() {
     let (loc, _) = error("colour: red\n");
     assert_eq!(loc, "f.yaml: nodes[0] (axis_node).colour");
 }
+
+/// `joint_type` (ROS side: joint_states in SI) is taken per axis; prismatic by default; any
+/// other value names the key.
+#[test]
+fn joint_types_default_to_prismatic_and_bad_ones_name_the_key() {
+    use crate::convert::JointType;
+    let v: serde_yaml::Value =
+        serde_yaml::from_str("axes:\n  x: {}\n  t: {joint_type: revolute, modulo_value: 360.0}\n")
+            .unwrap();
+    let c = AxisNodeConfig::from_yaml(v, "f").unwrap();
+    assert_eq!(c.joints, [JointType::Prismatic, JointType::Revolute]);
+    build(c, "f").unwrap();
+    let v: serde_yaml::Value = serde_yaml::from_str("axes:\n  x: {joint_type: linear}\n").unwrap();
+    let e = AxisNodeConfig::from_yaml(v, "f").unwrap_err();
+    assert_eq!(e.location, "f.axes.x.joint_type");
+    assert!(e.message.contains("prismatic"), "{}", e.message);
+}

@@ -62,17 +62,58 @@ pub fn axis_state_array(s: &Stamped<AxisSnapshot>) -> AxisStateArray {
     }
 }
 
-/// All axes as `sensor_msgs/JointState` (actual position and velocity; effort = set torque
-/// is not modelled yet and left empty).
-pub fn joint_state(s: &Stamped<AxisSnapshot>) -> JointState {
+/// How an axis appears in `joint_states` (REP-103 SI units): a prismatic axis counts in mm
+/// (published in m), a revolute one in degrees (published in rad). The PLCopen topics keep the
+/// axis's own units.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum JointType {
+    /// Linear axis, positions in mm.
+    #[default]
+    Prismatic,
+    /// Rotary axis, positions in degrees.
+    Revolute,
+}
+
+impl JointType {
+    /// From the launch config's `joint_type` value.
+    pub fn from_yaml(v: &serde_yaml::Value) -> Option<Self> {
+        match v.as_str()? {
+            "prismatic" => Some(JointType::Prismatic),
+            "revolute" => Some(JointType::Revolute),
+            _ => None,
+        }
+    }
+
+    /// Factor from the axis's units to SI (m or rad).
+    pub fn to_si(self) -> f64 {
+        match self {
+            JointType::Prismatic => 1e-3,
+            JointType::Revolute => std::f64::consts::PI / 180.0,
+        }
+    }
+}
+
+/// All axes as `sensor_msgs/JointState` in SI units (actual position and velocity; effort =
+/// set torque is not modelled yet and left empty).
+pub fn joint_state(s: &Stamped<AxisSnapshot>, joints: &[JointType]) -> JointState {
+    let k = |i: usize| joints.get(i).copied().unwrap_or_default().to_si();
+    let axes = &s.state.axes;
     JointState {
         header: Header {
             stamp: stamp(s),
             frame_id: String::new(),
         },
-        name: s.state.axes.iter().map(|a| a.name.clone()).collect(),
-        position: s.state.axes.iter().map(|a| a.act_pos).collect(),
-        velocity: s.state.axes.iter().map(|a| a.act_velo).collect(),
+        name: axes.iter().map(|a| a.name.clone()).collect(),
+        position: axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| a.act_pos * k(i))
+            .collect(),
+        velocity: axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| a.act_velo * k(i))
+            .collect(),
         effort: Vec::new(),
     }
 }
@@ -80,13 +121,16 @@ pub fn joint_state(s: &Stamped<AxisSnapshot>) -> JointState {
 pub(crate) fn register_topics(
     shell: &mut NodeShell<AxisEngine>,
     names: Vec<String>,
+    joints: Vec<JointType>,
 ) -> Result<(), ShellError> {
     shell.state_publisher(
         "~/axis_states",
         AxisStateArray::type_name(),
         axis_state_array,
     )?;
-    shell.state_publisher("joint_states", JointState::type_name(), joint_state)?;
+    shell.state_publisher("joint_states", JointState::type_name(), move |s| {
+        joint_state(s, &joints)
+    })?;
     for (i, name) in names.into_iter().enumerate() {
         shell.state_publisher(
             &format!("~/axes/{name}/state"),
@@ -98,4 +142,35 @@ pub(crate) fn register_topics(
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use motion_core::Engine;
+
+    /// REP-103: prismatic mm -> m, revolute deg -> rad.
+    #[test]
+    fn joint_states_are_in_si_units() {
+        let e = AxisEngine::new(vec![
+            ("x".into(), Default::default()),
+            ("t".into(), Default::default()),
+        ])
+        .unwrap();
+        let mut snap = Stamped {
+            cycle: 0,
+            sim_time: 0.0,
+            ros_time_ns: 0,
+            state: e.snapshot(),
+        };
+        snap.state.axes[0].act_pos = 250.0;
+        snap.state.axes[0].act_velo = -100.0;
+        snap.state.axes[1].act_pos = 90.0;
+        snap.state.axes[1].act_velo = 180.0;
+        let js = joint_state(&snap, &[JointType::Prismatic, JointType::Revolute]);
+        assert_eq!(js.name, ["x", "t"]);
+        assert!((js.position[0] - 0.25).abs() < 1e-12 && (js.velocity[0] + 0.1).abs() < 1e-12);
+        let pi = std::f64::consts::PI;
+        assert!((js.position[1] - pi / 2.0).abs() < 1e-12 && (js.velocity[1] - pi).abs() < 1e-12);
+    }
 }

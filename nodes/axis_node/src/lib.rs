@@ -124,6 +124,8 @@ pub struct AxisNodeConfig {
     /// `persistent_parameter_file`: where MC_Write(Bool)ParameterPersistent lists are stored
     /// and read back at start (optional).
     pub persistent_parameter_file: Option<String>,
+    /// Each axis's `joint_type` (same order as `axes`): how `joint_states` converts it to SI.
+    pub joints: Vec<convert::JointType>,
 }
 
 impl AxisNodeConfig {
@@ -144,6 +146,7 @@ impl AxisNodeConfig {
         let mut engine = serde_yaml::Mapping::new();
         let mut ca_groups = Vec::new();
         let mut persistent_parameter_file = None;
+        let mut joints = Vec::new();
         for (k, val) in map {
             match k.as_str() {
                 Some("ca_groups") => ca_groups = ca_groups_from_yaml(&val, location)?,
@@ -155,13 +158,24 @@ impl AxisNodeConfig {
                         let name = name
                             .as_str()
                             .ok_or_else(|| bad("axes", "axis names must be strings"))?;
-                        let cfg = if cfg.is_null() {
+                        let mut cfg = if cfg.is_null() {
                             serde_yaml::Value::Mapping(Default::default())
                         } else {
                             cfg.clone()
                         };
+                        // `joint_type` belongs to the ROS side (joint_states), not the engine.
+                        let joint = match cfg.as_mapping_mut().and_then(|m| m.remove("joint_type")) {
+                            None => convert::JointType::Prismatic,
+                            Some(j) => convert::JointType::from_yaml(&j).ok_or_else(|| {
+                                bad(
+                                    &format!("axes.{name}.joint_type"),
+                                    "expected prismatic (mm -> m) or revolute (deg -> rad)",
+                                )
+                            })?,
+                        };
                         let c: AxisConfig = from_value(cfg, &format!("{location}.axes.{name}"))?;
                         axes.push((name.to_string(), c));
+                        joints.push(joint);
                     }
                 }
                 Some("persistent_parameter_file") => {
@@ -192,6 +206,7 @@ impl AxisNodeConfig {
             engine,
             ca_groups,
             persistent_parameter_file,
+            joints,
         })
     }
 }
@@ -239,6 +254,7 @@ pub fn start(
     let groups: Vec<String> = cfg.engine.groups.iter().map(|g| g.name.clone()).collect();
     let profile = engine_config::profile_name(cfg.engine.platform_profile);
     let file = cfg.persistent_parameter_file.clone();
+    let joints = std::mem::take(&mut cfg.joints);
     // AxisCycleTime (1050) reports the node's cycle: the engine integrates with its tick.
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
@@ -272,7 +288,7 @@ pub fn start(
         domain_id,
         engine,
         params,
-        |shell| setup(shell, names, groups, persistence),
+        |shell| setup(shell, names, joints, groups, persistence),
     )?)
 }
 
@@ -288,6 +304,7 @@ fn start_boxed(
 fn setup(
     shell: &mut NodeShell<AxisEngine>,
     names: Vec<String>,
+    joints: Vec<convert::JointType>,
     groups: Vec<String>,
     persistence: std::sync::Arc<extensions::Persistence>,
 ) -> Result<(), ShellError> {
@@ -297,7 +314,7 @@ fn setup(
     jog::register(shell)?;
     actions::register(shell)?;
     ca::register(shell)?;
-    convert::register_topics(shell, names)?;
+    convert::register_topics(shell, names, joints)?;
     groups::register(shell, &groups)?;
     platform::register(shell)?;
     events::register(shell)?;
