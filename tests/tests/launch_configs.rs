@@ -153,6 +153,22 @@ fn demo_planar_ring_carries_the_movers() {
 /// Each bad config: (file text, what the message must name).
 const BAD: &[(&str, &[&str])] = &[
     (
+        "nodes:\n  - kind: axis_node\n    tf_pose: [0, 0, .nan, 0, 0, 0]\n    axes: {x: {}}\n",
+        &["nodes[0] (axis_node).tf_pose", "NaN is not a finite number"],
+    ),
+    (
+        "nodes:\n  - kind: planar_node\n    tf_parent: \"/world frame\"\n",
+        &["tf_parent", "not a valid frame id"],
+    ),
+    (
+        "nodes:\n  - kind: axis_node\n    lockstep: true\n    use_sim_time: true\n    axes: {x: {}}\n",
+        &["use_sim_time", "exclude each other"],
+    ),
+    (
+        "nodes:\n  - kind: axis_node\n    axes:\n      t: {joint_type: hinge}\n",
+        &["axes.t.joint_type", "revolute"],
+    ),
+    (
         "nodes:\n  - kind: axis_node\n    axes:\n      x: {max_velocity: -5}\n",
         &["nodes[0] (axis_node)", "max_velocity", "-5"],
     ),
@@ -204,5 +220,55 @@ fn bad_configs_exit_2_naming_file_key_and_problem() {
             assert!(err.contains(n), "{text:?}: '{n}' not in: {err}");
         }
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--ros-args` as ROS users pass them: `-p` overrides go through the config's validation
+/// (a bad value exits 2 naming the key), `--params-file` in ROS form works, anything else
+/// after `--ros-args` is a clear error with exit code 2.
+#[test]
+fn ros_args_overrides_are_validated_and_unknown_ones_refused() {
+    let dir = std::env::temp_dir().join(format!("motion_ros_args_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = dir.join("c.yaml");
+    std::fs::write(&cfg, "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n").unwrap();
+    let params = dir.join("p.yaml");
+    std::fs::write(
+        &params,
+        "/axis_node:\n  ros__parameters:\n    axes:\n      x: {max_velocity: -3.0}\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let out = Command::new(launcher())
+            .arg(&cfg)
+            .arg("--check")
+            .args(args)
+            .output()
+            .expect("run motion_launch");
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).to_string(),
+        )
+    };
+    let (code, err) = run(&["--ros-args", "-p", "state_rate:=25.0", "-r", "__node:=arm"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, err) = run(&["--ros-args", "-p", "cycle_period:=-1.0"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("cycle_period") && err.contains("outside"),
+        "{err}"
+    );
+    let (code, err) = run(&["--ros-args", "-p", "axis_node:axes.x.jerk:=.nan"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("jerk"), "{err}");
+    let (code, err) = run(&["--ros-args", "--params-file", params.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("max_velocity") && err.contains("-3"), "{err}");
+    let (code, err) = run(&["--ros-args", "--enclave", "/x"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("unsupported argument '--enclave'"), "{err}");
+    let (code, err) = run(&["--ros-args", "-p", "no_assignment"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains(":="), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -12,7 +12,7 @@ fn rclpy_suite() {
     require_netns();
     let root = workspace();
     let venv = root.join(".ros/venv");
-    if !venv.join(".motion-stamp").exists() {
+    if !venv.join(".stamp-motion_msgs").exists() {
         assert!(
             std::env::var("MOTION_REQUIRE_RCLPY").as_deref() != Ok("1"),
             "the rclpy venv is missing: run scripts/ros-venv.sh (scripts/setup.sh does)"

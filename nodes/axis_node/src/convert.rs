@@ -62,6 +62,10 @@ pub fn axis_state_array(s: &Stamped<AxisSnapshot>) -> AxisStateArray {
     }
 }
 
+/// The axis node's frame on `/tf_static` (the base its axes are mounted on; a URDF's joints
+/// hang below it through `joint_states`).
+pub const FRAME: &str = "axes_base";
+
 /// How an axis appears in `joint_states` (REP-103 SI units): a prismatic axis counts in mm
 /// (published in m), a revolute one in degrees (published in rad). The PLCopen topics keep the
 /// axis's own units.

@@ -315,6 +315,7 @@ fn setup(
     actions::register(shell)?;
     ca::register(shell)?;
     convert::register_topics(shell, names, joints)?;
+    shell.static_frame(convert::FRAME)?;
     groups::register(shell, &groups)?;
     platform::register(shell)?;
     events::register(shell)?;

@@ -135,6 +135,7 @@ fn setup(
     services::register(shell)?;
     actions::register(shell)?;
     convert::register_topics(shell, events)?;
+    shell.static_frame(convert::FRAME)?;
     Ok(())
 }
 

@@ -160,6 +160,7 @@ fn setup(
     tracks::register_actions(shell)?;
     tracks::spawn_sampler(shell, geometry.track_paths.clone());
     convert::register_topics(shell, geometry)?;
+    shell.static_frame(convert::FRAME_ID)?;
     Ok(())
 }
 

@@ -38,6 +38,11 @@ pub struct CommonConfig {
     /// How long an action keeps an ended goal's result for a client that has not asked for it
     /// yet [s] (rcl_action's `result_timeout`, default 900 = 15 min); then it is dropped.
     pub result_timeout: f64,
+    /// Parent frame of the node's own frame on `/tf_static` (default `world`): one root joins
+    /// every node's markers in RViz.
+    pub tf_parent: String,
+    /// Pose of the node's frame in `tf_parent`: x, y, z [m], roll, pitch, yaw [rad] (default 0).
+    pub tf_pose: [f64; 6],
 }
 
 impl Default for CommonConfig {
@@ -53,6 +58,8 @@ impl Default for CommonConfig {
             queue_capacity: 256,
             spin: 1e-4,
             result_timeout: 900.0,
+            tf_parent: "world".into(),
+            tf_pose: [0.0; 6],
         }
     }
 }
@@ -70,6 +77,8 @@ pub const COMMON_KEYS: &[&str] = &[
     "queue_capacity",
     "spin",
     "result_timeout",
+    "tf_parent",
+    "tf_pose",
 ];
 
 /// A configuration error: where (file, key) and what is wrong.
@@ -144,6 +153,17 @@ impl CommonConfig {
         }
         shell::service_mapping(Some(&self.service_mapping))
             .map_err(|e| bad("service_mapping", e.0))?;
+        if ros2_client::Name::parse(&format!("/{}", self.tf_parent)).is_err()
+            || self.tf_parent.starts_with('/')
+        {
+            return Err(bad(
+                "tf_parent",
+                format!("'{}' is not a valid frame id", self.tf_parent),
+            ));
+        }
+        if let Some(v) = self.tf_pose.iter().find(|v| !v.is_finite()) {
+            return Err(bad("tf_pose", format!("{v} is not a finite number")));
+        }
         if self.use_sim_time && self.lockstep {
             return Err(bad(
                 "use_sim_time",
@@ -181,6 +201,8 @@ impl CommonConfig {
             state_rate: self.state_rate,
             lockstep: self.lockstep,
             use_sim_time: self.use_sim_time,
+            tf_parent: self.tf_parent.clone(),
+            tf_pose: self.tf_pose,
             result_timeout: std::time::Duration::from_secs_f64(self.result_timeout),
         })
     }
@@ -210,6 +232,14 @@ impl CommonConfig {
                 "result_timeout".into(),
                 ParameterValue::Double(self.result_timeout),
             ),
+            (
+                "tf_parent".into(),
+                ParameterValue::String(self.tf_parent.clone()),
+            ),
+            (
+                "tf_pose".into(),
+                ParameterValue::DoubleArray(self.tf_pose.to_vec()),
+            ),
         ]
     }
 }
@@ -227,6 +257,8 @@ pub fn parameter_description(name: &str) -> &'static str {
         }
         "queue_capacity" => "commands waiting for the next cycle; a full queue refuses with 0x7F04",
         "result_timeout" => "how long an ended action goal's result is kept for its client [s]",
+        "tf_parent" => "parent frame of the node's frame on /tf_static",
+        "tf_pose" => "pose of the node's frame in tf_parent: x, y, z [m], roll, pitch, yaw [rad]",
         "use_sim_time" => {
             "ROS time and the cycles follow an external /clock (rosgraph_msgs/Clock)"
         }

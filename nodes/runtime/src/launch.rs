@@ -10,6 +10,7 @@
 //! ```
 
 use crate::host::{split_entry, CommonConfig, ConfigError};
+use crate::ros_args::RosArgs;
 use crate::shell::{self, ShellError};
 use std::any::Any;
 use std::fmt;
@@ -97,16 +98,36 @@ pub struct NodeEntry {
 /// Reads and checks a launch config: structure, node kinds, common settings, unique names.
 /// Engine parts are checked when each node starts.
 pub fn load(path: &Path, kinds: &[NodeKind]) -> Result<Vec<NodeEntry>, ConfigError> {
+    load_with(path, kinds, &RosArgs::default())
+}
+
+/// [`load`] with the command line's `--ros-args` parameters applied to each node entry before
+/// it is checked.
+pub fn load_with(
+    path: &Path,
+    kinds: &[NodeKind],
+    ros: &RosArgs,
+) -> Result<Vec<NodeEntry>, ConfigError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
         location: file.clone(),
         message: format!("cannot read: {e}"),
     })?;
-    parse(&text, &file, kinds)
+    parse_with(&text, &file, kinds, ros)
 }
 
 /// [`load`] on text (`file` names it in messages).
 pub fn parse(text: &str, file: &str, kinds: &[NodeKind]) -> Result<Vec<NodeEntry>, ConfigError> {
+    parse_with(text, file, kinds, &RosArgs::default())
+}
+
+/// [`load_with`] on text.
+pub fn parse_with(
+    text: &str,
+    file: &str,
+    kinds: &[NodeKind],
+    ros: &RosArgs,
+) -> Result<Vec<NodeEntry>, ConfigError> {
     let root: serde_yaml::Value = serde_yaml::from_str(text).map_err(|e| ConfigError {
         location: file.into(),
         message: e.to_string(),
@@ -157,7 +178,9 @@ pub fn parse(text: &str, file: &str, kinds: &[NodeKind]) -> Result<Vec<NodeEntry
             });
         };
         let location = format!("{location} ({kind_name})");
-        let (common, engine) = split_entry(m, kind.kind, &location)?;
+        let mut m = m.clone();
+        ros.apply_params(&mut m, kind.kind);
+        let (common, engine) = split_entry(&m, kind.kind, &location)?;
         if out
             .iter()
             .any(|e| e.common.name == common.name && e.common.namespace == common.namespace)
@@ -186,6 +209,8 @@ pub struct Args {
     pub duration: Option<f64>,
     /// Only check the config, start nothing.
     pub check: bool,
+    /// `--ros-args ... [--]`.
+    pub ros: RosArgs,
 }
 
 fn parse_args(usage: &str) -> Result<Args, String> {
@@ -193,6 +218,12 @@ fn parse_args(usage: &str) -> Result<Args, String> {
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
         match arg.as_str() {
+            "--ros-args" => {
+                let tokens: Vec<String> = it.by_ref().take_while(|t| t != "--").collect();
+                let more = RosArgs::parse(&tokens)?;
+                a.ros.remaps.extend(more.remaps);
+                a.ros.params.extend(more.params);
+            }
             "--duration" => {
                 let v = it.next().ok_or("--duration needs seconds")?;
                 a.duration = Some(
@@ -221,7 +252,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -230,7 +261,8 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         }
     };
     let path = args.config.unwrap_or_else(|| default_config.to_string());
-    let entries = match load(Path::new(&path), kinds) {
+    crate::ros_args::install_remaps(args.ros.remaps.clone());
+    let entries = match load_with(Path::new(&path), kinds, &args.ros) {
         Ok(e) => e,
         Err(e) => {
             eprintln!("{program}: configuration error: {e}");

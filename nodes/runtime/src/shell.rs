@@ -125,6 +125,10 @@ pub struct ShellSettings {
     pub lockstep: bool,
     /// `use_sim_time`: the cycles follow an external `/clock` (the controller runs in lockstep).
     pub use_sim_time: bool,
+    /// Parent frame of the node's frame on `/tf_static`.
+    pub tf_parent: String,
+    /// Pose of the node's frame in `tf_parent`: x, y, z [m], roll, pitch, yaw [rad].
+    pub tf_pose: [f64; 6],
     /// How long an action keeps an ended goal's result for a client that has not asked yet.
     pub result_timeout: Duration,
 }
@@ -212,27 +216,35 @@ pub fn stamp<S>(s: &Stamped<S>) -> Time {
     stamp_ns(s.ros_time_ns)
 }
 
-/// The absolute ROS name of a private (`~/rel`) name of this node.
+/// The absolute ROS name of a private (`~/rel`) name of this node (after `--ros-args -r`).
 pub fn private_name(settings: &ShellSettings, rel: &str) -> Result<Name, ShellError> {
     let ns = settings.namespace.trim_end_matches('/');
-    let full = format!("{ns}/{}/{rel}", settings.node_name);
-    Name::parse(&full).map_err(err("name"))
+    node_name(settings, &format!("{ns}/{}/{rel}", settings.node_name))
 }
 
-/// Resolves a topic name as ROS does: `~/x` private, `/x` absolute, `x` in the namespace.
+/// Resolves a topic name as ROS does: `~/x` private, `/x` absolute, `x` in the namespace;
+/// then the command line's remaps.
 pub fn resolve_name(settings: &ShellSettings, topic: &str) -> Result<Name, ShellError> {
     if let Some(rel) = topic.strip_prefix("~/") {
         private_name(settings, rel)
     } else if topic.starts_with('/') {
-        absolute_name(topic)
+        node_name(settings, topic)
     } else {
         let ns = settings.namespace.trim_end_matches('/');
-        absolute_name(&format!("{ns}/{topic}"))
+        node_name(settings, &format!("{ns}/{topic}"))
     }
 }
 
+/// A resolved name of this node after the remaps (`crate::ros_args`).
+fn node_name(settings: &ShellSettings, full: &str) -> Result<Name, ShellError> {
+    let full = crate::ros_args::remap(&settings.node_name, &settings.namespace, full);
+    Name::parse(&full).map_err(err("name"))
+}
+
+/// A process-wide absolute name (`/clock`, `/tf_static`, `/diagnostics`) after the remaps
+/// that name no node.
 fn absolute_name(full: &str) -> Result<Name, ShellError> {
-    Name::parse(full).map_err(err("name"))
+    Name::parse(&crate::ros_args::remap("", "/", full)).map_err(err("name"))
 }
 
 /// QoS of services and the goal/cancel/result services of actions: reliable, volatile as the
@@ -480,6 +492,60 @@ where
                 let t = snaps.borrow_and_update().ros_time_ns;
                 let _ = publisher.async_publish(Clock { clock: stamp_ns(t) }).await;
             }
+        });
+        Ok(())
+    }
+
+    /// Publishes the node's frame `child` on `/tf_static` (tf2_msgs/TFMessage, transient local
+    /// as tf2's static broadcaster), placed at `tf_pose` in `tf_parent`, so that RViz shows
+    /// every node's markers under one root.
+    pub fn static_frame(&mut self, child: &str) -> Result<(), ShellError> {
+        use motion_msgs::deps::geometry_msgs::msg::{
+            Quaternion, Transform, TransformStamped, Vector3,
+        };
+        use motion_msgs::deps::std_msgs::msg::Header;
+        use motion_msgs::deps::tf2_msgs::msg::TFMessage;
+        use ros2_client::qos::{Durability, History};
+        let qos = QosProfile::publisher_default()
+            .durability(Durability::TransientLocal)
+            .history(History::KeepLast { depth: 1 });
+        let topic = self
+            .node
+            .create_topic(&absolute_name("/tf_static")?, TFMessage::type_name(), &qos)
+            .map_err(err("topic"))?;
+        let publisher = self
+            .node
+            .create_publisher::<TFMessage>(&topic, None)
+            .map_err(err("publisher"))?;
+        let [x, y, z, roll, pitch, yaw] = self.settings.tf_pose;
+        // q = Rz(yaw) Ry(pitch) Rx(roll), as tf2's setRPY.
+        let (sr, cr) = (roll / 2.0).sin_cos();
+        let (sp, cp) = (pitch / 2.0).sin_cos();
+        let (sy, cy) = (yaw / 2.0).sin_cos();
+        let msg = TFMessage {
+            transforms: vec![TransformStamped {
+                header: Header {
+                    stamp: stamp(&self.handle.snapshot()),
+                    frame_id: self.settings.tf_parent.clone(),
+                },
+                child_frame_id: child.to_string(),
+                transform: Transform {
+                    translation: Vector3 { x, y, z },
+                    rotation: Quaternion {
+                        x: sr * cp * cy - cr * sp * sy,
+                        y: cr * sp * cy + sr * cp * sy,
+                        z: cr * cp * sy - sr * sp * cy,
+                        w: cr * cp * cy + sr * sp * sy,
+                    },
+                },
+            }],
+        };
+        self.tasks.spawn(async move {
+            if let Err(e) = publisher.async_publish(msg).await {
+                tracing::warn!("/tf_static publish failed: {e:?}");
+            }
+            // Kept alive: a transient-local sample lives as long as its writer.
+            std::future::pending::<()>().await;
         });
         Ok(())
     }
