@@ -131,6 +131,9 @@ pub(crate) struct Axis {
     pub power_off_pending: bool,
     // Errors (§1.4)
     pub error_id: ErrorId,
+    /// Reaction class of the MC message that raised `error_id` (plcopen_platform.md §7.2);
+    /// 0 = the error is no MC message. A group brakes with it (§5).
+    pub error_reaction: u16,
     pub drive_fault: bool,
     // Kinematics
     pub set: State1,
@@ -219,6 +222,7 @@ impl Axis {
             status_pending: false,
             power_off_pending: false,
             error_id: ErrorId::NONE,
+            error_reaction: 0,
             drive_fault: false,
             set: State1::at_rest(p),
             act_pos: p,
@@ -631,6 +635,7 @@ impl Axis {
     pub fn raise_error(&mut self, id: ErrorId, drive_fault: bool, fbs: &mut Handshake) {
         if self.error_id.is_none() {
             self.error_id = id;
+            self.error_reaction = 0;
         }
         // A slave error decouples the slave (§1.4, §2.5).
         if let Some(id) = self

@@ -54,3 +54,24 @@ fn e2_auto_power_gives_standstill_after_startup() {
     r.step();
     assert_eq!(r.a0().motion_state, MotionState::Standstill);
 }
+
+/// Issue 17 item 3: start-up lasts exactly 10 cycles. With `auto_power` an order placed in
+/// cycle 10 (after 10 steps) is taken: the axis is STANDSTILL then, not one cycle later.
+#[test]
+fn e2_auto_power_takes_an_order_in_cycle_10() {
+    let mut r = P4::isg_cold(PlatformConfig {
+        auto_power: true,
+        ..PlatformConfig::default()
+    });
+    r.steps(9);
+    assert_eq!(
+        err(r.cmd(rel(A0, 1000.0, 10000.0))),
+        ErrorId(4013),
+        "cycle 9 is start-up"
+    );
+    r.step();
+    assert_eq!(r.a0().motion_state, MotionState::Standstill, "cycle 10");
+    let id = r.id(rel(A0, 1000.0, 10000.0));
+    r.until(5000, |r| r.out(id).done);
+    assert_eq!(r.a0().set_pos, 1000.0);
+}

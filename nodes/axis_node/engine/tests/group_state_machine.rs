@@ -172,7 +172,7 @@ fn member_error_latches_error_stop_and_reset_returns_to_standby() {
         "group FB: ErrorID 1 (member error)"
     );
     assert_eq!(r.gs().error_id, ErrorId(1));
-    // The healthy member brakes on its own.
+    // The healthy member brakes with the group, on the path (group_error_stop.rs).
     r.until(10000, |r| r.ax("x").set_velo == 0.0);
     // Refusals in GROUP_ERROR_STOP.
     assert_eq!(err(r.g(lin_abs(vec![0.0, 0.0], 10.0))), E4901);

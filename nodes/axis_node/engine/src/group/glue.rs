@@ -754,6 +754,70 @@ impl AxisEngine {
         Profile1::stopping(s, &l).unwrap_or_else(|_| Profile1::hold(State1::at_rest(s.pos)))
     }
 
+    /// Quick stop on the path (reaction class 2): each member's fast limits over its
+    /// direction cosine, as `path_limits` does with the normal ones.
+    fn quick_stop_profile(&self, members: &[usize], dir: &[f64], s: State1) -> Profile1 {
+        let mut l = Limits {
+            velocity: f64::INFINITY,
+            acceleration: f64::INFINITY,
+            deceleration: f64::INFINITY,
+            jerk: f64::INFINITY,
+        };
+        for (k, &i) in members.iter().enumerate() {
+            let u = dir.get(k).copied().unwrap_or(0.0).abs();
+            if u > 1e-12 {
+                let f = self.axes[i].fast_limits();
+                l.velocity = l.velocity.min(f.velocity / u);
+                l.deceleration = l.deceleration.min(f.deceleration / u);
+                l.jerk = l.jerk.min(f.jerk / u);
+            }
+        }
+        let finite = |x: f64| if x.is_finite() { x } else { 1.0 };
+        let l = Limits {
+            velocity: finite(l.velocity).max(s.vel.abs()).max(1e-9),
+            acceleration: finite(l.deceleration),
+            deceleration: finite(l.deceleration),
+            jerk: finite(l.jerk),
+        };
+        Profile1::stopping(s, &l).unwrap_or_else(|_| Profile1::hold(State1::at_rest(s.pos)))
+    }
+
+    /// The running path job `j` replaced by the stop `stop` from its current state, on the
+    /// same line.
+    fn path_stop_job(
+        &self,
+        g: usize,
+        j: PathJob,
+        stop: Profile1,
+        owner: Option<CmdId>,
+        kind: PathKind,
+    ) -> PathJob {
+        let here = self.member_set(g);
+        let origin = stop.at(0.0).pos;
+        let start: Vec<f64> = here
+            .iter()
+            .zip(&j.dir)
+            .map(|(p, u)| p - u * origin)
+            .collect();
+        let end = start
+            .iter()
+            .zip(&j.dir)
+            .map(|(p, u)| p + u * stop.end().pos)
+            .collect();
+        PathJob {
+            owner,
+            kind,
+            start,
+            dir: j.dir,
+            profile: stop,
+            t: 0.0,
+            dynamics: j.dynamics,
+            queue: VecDeque::new(),
+            paused: false,
+            end,
+        }
+    }
+
     /// MC_GroupHalt / MC_GroupStop: path-true stop of the running motion (or Done at rest).
     fn group_start_stop(&mut self, g: usize, id: CmdId, kind: PathKind, d: Dyn) {
         self.group_take_over(g);
@@ -763,28 +827,9 @@ impl AxisEngine {
             Some(j) => {
                 let s = j.profile.at(j.t);
                 let stop = self.stop_profile(&members, &j.dir, s, &d);
-                let origin = stop.at(0.0).pos;
-                let start: Vec<f64> = here
-                    .iter()
-                    .zip(&j.dir)
-                    .map(|(p, u)| p - u * origin)
-                    .collect();
-                let end = start
-                    .iter()
-                    .zip(&j.dir)
-                    .map(|(p, u)| p + u * stop.end().pos)
-                    .collect();
                 PathJob {
-                    owner: Some(id),
-                    kind,
-                    start,
-                    dir: j.dir,
-                    profile: stop,
-                    t: 0.0,
                     dynamics: d,
-                    queue: VecDeque::new(),
-                    paused: false,
-                    end,
+                    ..self.path_stop_job(g, j, stop, Some(id), kind)
                 }
             }
             None => PathJob {
@@ -921,8 +966,33 @@ impl AxisEngine {
             if let Some(j) = self.groups.list[g].job.as_mut() {
                 j.owner = None;
             }
-            self.groups.list[g].job = None;
-            self.release_members(g, true);
+            // Every member brakes with the group's error reaction, on the path while all
+            // members are powered; otherwise each stops on its own (fast limits).
+            let powered = self.groups.list[g]
+                .axes()
+                .all(|i| self.axes[i].controller_on && self.axes[i].status);
+            match self.groups.list[g].job.take() {
+                Some(j) if powered => {
+                    let members = self.members(g);
+                    let reaction = members
+                        .iter()
+                        .filter(|&&i| !self.axes[i].error_id.is_none())
+                        .map(|&i| self.axes[i].error_reaction)
+                        .max()
+                        .unwrap_or(0);
+                    let s = j.profile.at(j.t);
+                    let stop = if reaction == 1 {
+                        // Class 1: the programmed deceleration of the running motion.
+                        self.stop_profile(&members, &j.dir, s, &j.dynamics)
+                    } else {
+                        // Class 2 and errors that are no MC message: quick stop.
+                        self.quick_stop_profile(&members, &j.dir, s)
+                    };
+                    let job = self.path_stop_job(g, j, stop, None, PathKind::ErrorStop);
+                    self.groups.list[g].job = Some(job);
+                }
+                _ => self.release_members(g, true),
+            }
             return;
         }
         // A member lost power (MC_Power off): the motion is aborted, the group is disabled.
@@ -992,6 +1062,7 @@ impl AxisEngine {
             self.axes[ax].group_motion = false;
         }
         match job.kind {
+            PathKind::ErrorStop => {}
             PathKind::Move | PathKind::Halt => {
                 if let Some(id) = job.owner {
                     self.groups.set(&mut self.fbs, id, CommandState::Done);

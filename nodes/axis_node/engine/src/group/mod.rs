@@ -79,6 +79,8 @@ pub(crate) enum PathKind {
     Halt,
     /// MC_GroupStop ramp.
     Stop,
+    /// The group's error reaction after a member error (no FB instance).
+    ErrorStop,
 }
 
 /// Requested path dynamics (0 = the largest the members allow).

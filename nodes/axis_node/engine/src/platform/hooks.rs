@@ -441,7 +441,11 @@ impl AxisEngine {
         buf.truncate(ERROR_BUFFER_LEN);
         if remedy > 0 {
             let a = &mut self.axes[ax];
+            let first = a.error_id.is_none();
             a.raise_error(ErrorId(error_id), reaction >= 3, &mut self.fbs);
+            if first {
+                a.error_reaction = reaction;
+            }
             // Reaction class 1: decelerate with the programmed deceleration; class 2: quick
             // stop with the limit deceleration `a_limit` (R-SYS-1) and the fast jerk; class 3:
             // brake at once.
@@ -616,25 +620,6 @@ impl AxisEngine {
         for p in &mut self.platform.axes {
             p.slot = None;
         }
-        if self.platform.isg()
-            && self.platform.cycles == u64::from(self.platform.cfg.nr_cycles_chk_mc_runs)
-            && self.platform.cfg.auto_power
-        {
-            for ax in 0..self.axes.len() {
-                let name = self.axes[ax].name.clone();
-                let _ = self.power(
-                    ax,
-                    Power {
-                        axis: name,
-                        enable: true,
-                        enable_positive: true,
-                        enable_negative: true,
-                        override_percent: 100.0,
-                        buffer_mode: BufferMode::Aborting,
-                    },
-                );
-            }
-        }
         let hold = self.platform.feed_hold();
         for ax in 0..self.axes.len() {
             if self.platform.axes[ax].feed_hold != hold {
@@ -676,6 +661,32 @@ impl AxisEngine {
         self.platform.cycles += 1;
         if !self.platform.safety() {
             return;
+        }
+        // R-INIT-1: start-up is cycles 0..9; with `auto_power` the axes are powered at its
+        // end, STANDSTILL for the orders of cycle 10 (not one cycle later).
+        if self.platform.isg()
+            && self.platform.cycles == u64::from(self.platform.cfg.nr_cycles_chk_mc_runs)
+            && self.platform.cfg.auto_power
+        {
+            for ax in 0..self.axes.len() {
+                let name = self.axes[ax].name.clone();
+                let _ = self.power(
+                    ax,
+                    Power {
+                        axis: name,
+                        enable: true,
+                        enable_positive: true,
+                        enable_negative: true,
+                        override_percent: 100.0,
+                        buffer_mode: BufferMode::Aborting,
+                    },
+                );
+                let a = &mut self.axes[ax];
+                if a.status_pending {
+                    a.status_pending = false;
+                    a.status = a.controller_on && !a.drive_fault;
+                }
+            }
         }
         for ax in 0..self.axes.len() {
             let p = &mut self.platform.axes[ax];
