@@ -142,3 +142,69 @@ fn an_uncalled_group_instance_clogs_the_group_channel() {
     let o = r.cycle(&[h()]);
     assert!(o[0].done, "{o:?}");
 }
+
+/// Issue 17 item 2, §6.2: an Enable-type FB with cyclic inputs (MC_GroupSetOverride, and
+/// MC_SetOverride on an axis) applies changed inputs while Enable is held TRUE, every call,
+/// as the service does: 0.5, then 0.0 (path-true stop), then 1.0 during a group move.
+#[test]
+fn enable_type_fbs_apply_changed_inputs_while_enable_is_held() {
+    let mut r = rig();
+    let ov = |f: f64| {
+        gcall(
+            "OV",
+            true,
+            GroupCommand::GroupSetOverride(GroupSetOverride {
+                group: G.into(),
+                enable: true,
+                vel_factor: f,
+                acc_factor: 1.0,
+                jerk_factor: 1.0,
+            }),
+        )
+    };
+    let mv = || gcall("M", true, lin_abs(vec![300_000.0, 400_000.0], 100_000.0));
+    r.cycle(&[ov(0.5), mv()]);
+    for _ in 0..200 {
+        r.cycle(&[ov(0.5), mv()]);
+    }
+    assert_eq!(r.gs().override_factor, 0.5);
+    for _ in 0..400 {
+        r.cycle(&[ov(0.0), mv()]);
+    }
+    assert_eq!(
+        r.gs().override_factor,
+        0.0,
+        "a changed VelFactor applies at once"
+    );
+    let (x, y) = (r.ax("x").set_pos, r.ax("y").set_pos);
+    r.cycle(&[ov(0.0), mv()]);
+    assert_eq!(
+        (r.ax("x").set_pos, r.ax("y").set_pos),
+        (x, y),
+        "stopped by VelFactor 0"
+    );
+    r.cycle(&[ov(1.0), mv()]);
+    assert_eq!(r.gs().override_factor, 1.0);
+    // The axis-level MC_SetOverride likewise.
+    let aov = |f: f64| {
+        call(
+            "AOV",
+            true,
+            AxisCommand::SetOverride(SetOverride {
+                axis: "x".into(),
+                enable: true,
+                vel_factor: f,
+                acc_factor: 1.0,
+                jerk_factor: 1.0,
+            }),
+        )
+    };
+    r.cycle(&[aov(0.25)]);
+    r.cycle(&[aov(0.75)]);
+    r.step();
+    assert_eq!(
+        r.ax("x").override_percent,
+        75.0,
+        "axis override follows the held instance's input"
+    );
+}

@@ -120,6 +120,8 @@ struct Inst {
     /// FB_RETRY (§4.1): the order that found the slot occupied and the retries left
     /// (`MAX_RETRIALS`).
     retry: Option<(AxisCommand, u32)>,
+    /// The inputs last sent, for Enable-type FBs with cyclic inputs (§6.2).
+    last_inputs: Option<AxisCommand>,
 }
 
 /// Raw-layer state (instances and acknowledgement queues).
@@ -368,7 +370,12 @@ impl AxisEngine {
                 return self.raw_out(k);
             }
         }
-        if rising {
+        // §6.2: an Enable-type FB with cyclic inputs (MC_Power, MC_SetOverride,
+        // MC_GroupSetOverride) applies changed inputs while Enable is held, every call.
+        let changed =
+            call.execute && cyclic_inputs(&call.fb) && i.last_inputs.as_ref() != Some(&call.fb);
+        if rising || changed {
+            i.last_inputs = cyclic_inputs(&call.fb).then(|| call.fb.clone());
             let state = i.state;
             let Some(ax) = axis else {
                 i.state = FbState::Error;
@@ -488,4 +495,14 @@ impl AxisEngine {
             ..i.out.clone()
         }
     }
+}
+
+/// Enable-type FBs whose inputs are read every call while Enable is TRUE (§6.2).
+fn cyclic_inputs(fb: &AxisCommand) -> bool {
+    matches!(
+        fb,
+        AxisCommand::Power(_)
+            | AxisCommand::SetOverride(_)
+            | AxisCommand::Group(crate::group::GroupCommand::GroupSetOverride(_))
+    )
 }
