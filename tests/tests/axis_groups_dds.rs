@@ -35,7 +35,7 @@ use ros2_client::{Client, ServiceMapping};
 use system_tests::{common, drive, require_netns, send_goal, unique_domain, within, ClientNode};
 
 const AXIS: &str =
-    "{ max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0 }";
+    "{ max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0, fast_deceleration: 50000.0, fast_jerk: 1000000.0 }";
 
 fn start_node(domain: u16, mapping: ServiceMapping, profile: &str) -> AxisNode {
     let text = format!(

@@ -29,10 +29,11 @@ fn defaults_are_tc2_mc2_without_groups() {
 
 #[test]
 fn groups_profile_and_platform_reach_the_engine() {
-    let c = parse(
-        "platform_profile: isg_mcp\ngroups:\n  - {name: g, axes: [y, x]}\nplatform:\n  lease_cycles: 50\n  axes:\n    x: {referenced: false}\n",
+    let v: serde_yaml::Value = serde_yaml::from_str(
+        "axes:\n  x: {fast_deceleration: 5.0e6, fast_jerk: 1.0e9}\n  y: {fast_deceleration: 5.0e6, fast_jerk: 1.0e9}\nplatform_profile: isg_mcp\ngroups:\n  - {name: g, axes: [y, x]}\nplatform:\n  lease_cycles: 50\n  axes:\n    x: {referenced: false}\n",
     )
     .unwrap();
+    let c = AxisNodeConfig::from_yaml(v, "f").unwrap();
     assert_eq!(c.engine.platform_profile, PlatformProfile::IsgMcp);
     assert_eq!(c.engine.groups[0].axes, ["y", "x"]);
     assert_eq!(c.engine.platform.lease_cycles, 50);
@@ -87,4 +88,22 @@ fn joint_types_default_to_prismatic_and_bad_ones_name_the_key() {
     let e = AxisNodeConfig::from_yaml(v, "f").unwrap_err();
     assert_eq!(e.location, "f.axes.x.joint_type");
     assert!(e.message.contains("prismatic"), "{}", e.message);
+}
+
+/// isg_mcp counts in µm: the fast (quick-stop) limits must be configured (issue 17).
+#[test]
+fn isg_mcp_requires_the_fast_limits() {
+    let e = parse("platform_profile: isg_mcp\n").unwrap_err();
+    assert_eq!(
+        e.location,
+        "f.yaml: nodes[0] (axis_node).axes.x.fast_deceleration"
+    );
+    assert!(e.message.contains("isg_mcp"), "{}", e.message);
+    let v: serde_yaml::Value =
+        serde_yaml::from_str("axes:\n  x: {fast_deceleration: 5.0e6}\nplatform_profile: isg_mcp\n")
+            .unwrap();
+    let e = AxisNodeConfig::from_yaml(v, "f").unwrap_err();
+    assert_eq!(e.location, "f.axes.x.fast_jerk");
+    // tc2_mc2 keeps its documented defaults.
+    parse("platform_profile: tc2_mc2\n").unwrap();
 }

@@ -147,6 +147,7 @@ impl AxisNodeConfig {
         let mut ca_groups = Vec::new();
         let mut persistent_parameter_file = None;
         let mut joints = Vec::new();
+        let mut missing_fast = Vec::new();
         for (k, val) in map {
             match k.as_str() {
                 Some("ca_groups") => ca_groups = ca_groups_from_yaml(&val, location)?,
@@ -173,6 +174,11 @@ impl AxisNodeConfig {
                                 )
                             })?,
                         };
+                        for key in ["fast_deceleration", "fast_jerk"] {
+                            if cfg.get(key).is_none() {
+                                missing_fast.push(format!("axes.{name}.{key}"));
+                            }
+                        }
                         let c: AxisConfig = from_value(cfg, &format!("{location}.axes.{name}"))?;
                         axes.push((name.to_string(), c));
                         joints.push(joint);
@@ -201,6 +207,17 @@ impl AxisNodeConfig {
             return Err(bad("axes", "no axis configured"));
         }
         let engine = engine_config::finish(engine, &axes, location)?;
+        // isg_mcp counts in µm: Tc2_MC2's fast defaults (5000 u/s², 1e5 u/s³) would make a
+        // reaction-class-2 quick stop softer and longer than a class-1 stop (issue 17).
+        if engine.platform_profile == axis_engine::PlatformProfile::IsgMcp {
+            if let Some(key) = missing_fast.first() {
+                return Err(bad(
+                    key,
+                    "required with platform_profile isg_mcp: quick stops (reaction class 2, \
+                     travel limits) use it, and the Tc2_MC2 default is far too soft in µm",
+                ));
+            }
+        }
         Ok(AxisNodeConfig {
             axes,
             engine,
