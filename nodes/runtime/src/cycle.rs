@@ -247,6 +247,7 @@ impl<E: Engine> Controller<E> {
             free_run: false,
             failsafe,
             clock: clock.clone(),
+            held: None,
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
@@ -526,6 +527,9 @@ struct CycleThread<E: Engine> {
     failsafe: crate::failsafe::Registration,
     /// The node's ROS time (stamps snapshots).
     clock: Arc<RosClock>,
+    /// Lockstep: a custom cycle taken from the queue between steps; it runs at the next step,
+    /// and requests behind it wait for that step too (order of arrival).
+    held: Option<CustomStep<E>>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -627,6 +631,7 @@ impl<E: Engine> CycleThread<E> {
             if pending.is_empty() && !self.free_run {
                 self.wake.wait();
                 self.drain_control(&mut pending);
+                self.admit_between_steps();
                 // Queries need no step: served while idle (the loop comes back for more).
                 if self.serve_queries(|| true) {
                     self.wake.notify();
@@ -656,6 +661,19 @@ impl<E: Engine> CycleThread<E> {
         }
     }
 
+    /// Lockstep, between steps: commands and cancels are admitted at once (accepted with
+    /// their id or refused), as a PLC's FB call is before the NC cycle, and take effect in
+    /// the next cycle; so a service call answers without waiting for a `~/step`. A custom
+    /// cycle is held for the next step, and whatever arrived after it waits with it.
+    fn admit_between_steps(&mut self) {
+        while self.held.is_none() {
+            match self.rx.try_recv() {
+                Ok(req) => self.held = self.apply(req),
+                Err(_) => break,
+            }
+        }
+    }
+
     /// Lockstep: takes step and free-run requests (commands wait in their queue).
     fn drain_control(&mut self, pending: &mut Steps) {
         while let Ok(c) = self.control_rx.try_recv() {
@@ -674,11 +692,11 @@ impl<E: Engine> CycleThread<E> {
     /// One cycle: commands in arrival order, then `step` (or a custom cycle that came with
     /// them; commands behind it wait for the next cycle), then events and snapshot.
     fn cycle_once(&mut self) {
-        let mut custom = None;
-        while let Ok(req) = self.rx.try_recv() {
-            custom = self.apply(req);
-            if custom.is_some() {
-                break;
+        let mut custom = self.held.take();
+        while custom.is_none() {
+            match self.rx.try_recv() {
+                Ok(req) => custom = self.apply(req),
+                Err(_) => break,
             }
         }
         let tick = Tick {

@@ -397,3 +397,28 @@ fn a_custom_cycle_replaces_one_step_after_the_commands_before_it() {
         assert_eq!(engine.dts, vec![0.002, 0.001]);
     });
 }
+
+/// Lockstep (issue 15 item 8): a command is admitted between steps at once (its reply comes
+/// without any `step`), and takes effect in the next cycle; commands keep their order.
+#[test]
+fn lockstep_admits_commands_between_steps_and_applies_them_at_the_next_step() {
+    rt().block_on(async {
+        let (ctl, _events) = Controller::spawn(counter(), lockstep(0.002, 8), |r| *r).unwrap();
+        let h = ctl.handle();
+        let a = h.submit(Cmd::SetVel(10.0), None).unwrap();
+        let b = h.submit(Cmd::SetVel(20.0), None).unwrap();
+        let refused = h.submit(Cmd::SetVel(f64::NAN), None).unwrap();
+        let answered = tokio::time::timeout(std::time::Duration::from_secs(2), async {
+            (a.await, b.await, refused.await)
+        })
+        .await
+        .expect("answered without a step");
+        assert!(answered.0.unwrap().is_ok() && answered.1.unwrap().is_ok());
+        assert!(answered.2.unwrap().is_err(), "refused at once");
+        assert_eq!(h.snapshot().cycle, 0, "no cycle ran");
+        h.step(100).await.unwrap();
+        // The last admitted velocity (20, in arrival order) for all 100 cycles.
+        assert!((h.snapshot().state.0 - 20.0 * 0.2).abs() < 1e-9);
+        ctl.shutdown().unwrap();
+    });
+}
