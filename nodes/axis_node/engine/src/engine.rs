@@ -2430,7 +2430,8 @@ impl AxisEngine {
                 true,
             ),
             AxisCommand::ReadStatus(_) => {
-                let s = self.axes[ax].status();
+                // The same source as the snapshot (CoupleState 1/2 of a master, CA fields).
+                let s = self.axis_status(ax, self.is_master(ax));
                 Ok(self.untracked(ReplyValue::Status(Box::new(s))))
             }
             AxisCommand::ReadActualPosition(_) => {

@@ -508,3 +508,24 @@ fn axis_gear_ratio_written_on_a_coupled_slave() {
     }
     assert!(matches!(rw(&mut t, None).unwrap().value, ReplyValue::Real(r) if r == 2.0));
 }
+
+/// Issue 15 item 10: MC_ReadStatus reports the same CoupleState as the state topic (one
+/// source): 1 for the gear master, 3 for the slave, in the same cycle.
+#[test]
+fn read_status_and_the_snapshot_agree_on_couple_state() {
+    let mut t = Two::new(AxisConfig::default());
+    t.gear_in(1.5, 1).unwrap();
+    for _ in 0..5 {
+        t.step();
+    }
+    for (axis, want) in [("m", 1), ("s", 3)] {
+        let r =
+            t.e.command(AxisCommand::ReadStatus(ReadStatus { axis: axis.into() }))
+                .unwrap();
+        let ReplyValue::Status(s) = r.value else {
+            panic!("{:?}", r.value)
+        };
+        assert_eq!(s.couple_state, want, "read_status of {axis}");
+        assert_eq!(t.st(axis).couple_state, want, "snapshot of {axis}");
+    }
+}
