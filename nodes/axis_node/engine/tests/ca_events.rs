@@ -8,7 +8,7 @@ use ca_common::*;
 use motion_core::{CommandEvent, CommandState, Engine};
 
 #[test]
-fn motion_commands_are_tracked_and_end_with_one_final_event() {
+fn motion_commands_report_their_admission_and_end_with_one_final_event() {
     let mut r = CaRig::new(&[("A", 0.0), ("B", -500.0)], open(5000.0));
     let rep = r
         .ca(CaCommand::MoveAbsolute(MoveAbsoluteCa {
@@ -30,9 +30,18 @@ fn motion_commands_are_tracked_and_end_with_one_final_event() {
         r.step();
         log.extend(r.events.iter().copied());
     }
-    let mine: Vec<_> = log.iter().filter(|e| e.id == rep.id).collect();
-    assert_eq!(mine.len(), 1, "{mine:?}");
-    assert_eq!(mine[0].state, CommandState::Done);
+    // The admission (Active: in control at once) and then one final event (issue 15 item 6:
+    // the admission used to be missing, so ~/command_status never showed a running command).
+    let mine: Vec<_> = log
+        .iter()
+        .map(|e| (e.id, e.state))
+        .filter(|e| e.0 == rep.id)
+        .collect();
+    assert_eq!(
+        mine,
+        [(rep.id, CommandState::Active), (rep.id, CommandState::Done)],
+        "{mine:?}"
+    );
     assert!(r.out(rep.id).done);
     // Read blocks are untracked.
     let rd = r

@@ -698,6 +698,9 @@ impl CaGroups {
                 execute: true,
             },
         );
+        // The admission is an output change too (Busy, or Active when in control at once),
+        // shown on ~/command_status like the single-axis handshake's (issue 15 item 6).
+        fbs.events.push(CommandEvent { id, state });
         id
     }
 
