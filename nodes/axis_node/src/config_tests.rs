@@ -107,3 +107,18 @@ fn isg_mcp_requires_the_fast_limits() {
     // tc2_mc2 keeps its documented defaults.
     parse("platform_profile: tc2_mc2\n").unwrap();
 }
+
+/// `auto_power` per axis (collision_avoidance.md §3.2, proposal; default false here, as a
+/// Tc2_MC2 axis starts disabled): taken out of the engine's keys; not with isg_mcp.
+#[test]
+fn auto_power_is_an_axis_key() {
+    let v: serde_yaml::Value =
+        serde_yaml::from_str("axes:\n  x: {auto_power: true}\n  y: {auto_power: false}\n").unwrap();
+    let c = AxisNodeConfig::from_yaml(v, "f").unwrap();
+    assert_eq!(c.auto_power, ["x"]);
+    let v: serde_yaml::Value = serde_yaml::from_str("axes:\n  x: {auto_power: 1}\n").unwrap();
+    assert_eq!(
+        AxisNodeConfig::from_yaml(v, "f").unwrap_err().location,
+        "f.axes.x.auto_power"
+    );
+}

@@ -126,6 +126,9 @@ pub struct AxisNodeConfig {
     pub persistent_parameter_file: Option<String>,
     /// Each axis's `joint_type` (same order as `axes`): how `joint_states` converts it to SI.
     pub joints: Vec<convert::JointType>,
+    /// Axes with `auto_power: true` (collision_avoidance.md §3.2, proposal): powered with both
+    /// direction enables before the first cycle, STANDSTILL from cycle 1.
+    pub auto_power: Vec<String>,
 }
 
 impl AxisNodeConfig {
@@ -148,6 +151,7 @@ impl AxisNodeConfig {
         let mut persistent_parameter_file = None;
         let mut joints = Vec::new();
         let mut missing_fast = Vec::new();
+        let mut auto_power = Vec::new();
         for (k, val) in map {
             match k.as_str() {
                 Some("ca_groups") => ca_groups = ca_groups_from_yaml(&val, location)?,
@@ -164,6 +168,16 @@ impl AxisNodeConfig {
                         } else {
                             cfg.clone()
                         };
+                        match cfg.as_mapping_mut().and_then(|m| m.remove("auto_power")) {
+                            None | Some(serde_yaml::Value::Bool(false)) => {}
+                            Some(serde_yaml::Value::Bool(true)) => auto_power.push(name.to_string()),
+                            Some(_) => {
+                                return Err(bad(
+                                    &format!("axes.{name}.auto_power"),
+                                    "expected true or false",
+                                ))
+                            }
+                        }
                         // `joint_type` belongs to the ROS side (joint_states), not the engine.
                         let joint = match cfg.as_mapping_mut().and_then(|m| m.remove("joint_type")) {
                             None => convert::JointType::Prismatic,
@@ -210,6 +224,13 @@ impl AxisNodeConfig {
         // isg_mcp counts in µm: Tc2_MC2's fast defaults (5000 u/s², 1e5 u/s³) would make a
         // reaction-class-2 quick stop softer and longer than a class-1 stop (issue 17).
         if engine.platform_profile == axis_engine::PlatformProfile::IsgMcp {
+            if let Some(a) = auto_power.first() {
+                return Err(bad(
+                    &format!("axes.{a}.auto_power"),
+                    "not with platform_profile isg_mcp: its start-up powers the axes \
+                     (platform.auto_power, R-INIT-1)",
+                ));
+            }
             if let Some(key) = missing_fast.first() {
                 return Err(bad(
                     key,
@@ -224,6 +245,7 @@ impl AxisNodeConfig {
             ca_groups,
             persistent_parameter_file,
             joints,
+            auto_power,
         })
     }
 }
@@ -272,6 +294,7 @@ pub fn start(
     let profile = engine_config::profile_name(cfg.engine.platform_profile);
     let file = cfg.persistent_parameter_file.clone();
     let joints = std::mem::take(&mut cfg.joints);
+    let auto_power = std::mem::take(&mut cfg.auto_power);
     // AxisCycleTime (1050) reports the node's cycle: the engine integrates with its tick.
     for (_, c) in &mut cfg.axes {
         c.cycle_time = common.cycle_period;
@@ -280,6 +303,22 @@ pub fn start(
     let mut engine = build_with_ca(cfg, location)?;
     let persistence =
         std::sync::Arc::new(apply_persistent(&mut engine, file.as_deref(), location)?);
+    for axis in auto_power {
+        let power = axis_engine::Power {
+            axis: axis.clone(),
+            enable: true,
+            enable_positive: true,
+            enable_negative: true,
+            override_percent: 100.0,
+            buffer_mode: axis_engine::BufferMode::Aborting,
+        };
+        motion_core::Engine::command(&mut engine, axis_engine::AxisCommand::Power(power)).map_err(
+            |r| ConfigError {
+                location: format!("{location}.axes.{axis}.auto_power"),
+                message: r.message,
+            },
+        )?;
+    }
     let params = vec![
         (
             "axes".to_string(),
