@@ -2,8 +2,8 @@
 # Installs what the demo and the tests need, only what is missing (idempotent):
 # Debian packages (ROS's interface parser, iproute2 for the private network namespace,
 # nftables for the lossy-link tests),
-# Python packages (cyclonedds: an independent DDS peer; ruckig: trajectory oracle; pyyaml),
-# and the ROS 2 Jazzy venv of the rclpy suite (scripts/ros-venv.sh).
+# Python packages (cyclonedds: an independent DDS peer; ruckig: trajectory oracle; pyyaml).
+# The test command also builds the ROS 2 Jazzy venv of the rclpy suite (scripts/ros-venv.sh).
 set -euo pipefail
 SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
 
@@ -27,9 +27,5 @@ if [ ${#need_pip[@]} -gt 0 ]; then
   echo "setup: installing Python packages: ${need_pip[*]}"
   $PY -m pip install -q "${need_pip[@]}"
 fi
-
-# Real ROS 2 Jazzy (rclpy on Fast DDS) and our interfaces, for the rclpy suite: a venv in
-# .ros/venv, rebuilt only when the interface files change (a no-op otherwise).
-"$(dirname "$0")/ros-venv.sh"
 
 command -v cargo >/dev/null || { echo "setup: cargo (Rust toolchain) is required" >&2; exit 1; }

@@ -5,12 +5,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+# Real ROS 2 Jazzy (rclpy on Fast DDS) and our interfaces, for the rclpy suite: a venv in
+# .ros/venv, rebuilt only when the wheels or interface files change (a no-op otherwise).
+scripts/ros-venv.sh
 export CARGO_TERM_COLOR=${CARGO_TERM_COLOR:-never}
 # A one-shot build gains nothing from incremental state, which would add GBs on disk.
 export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}
 # setup.sh installed cyclonedds: the Rust/Python CDR cross-check must run, not skip.
 export MOTION_MSGS_REQUIRE_CYCLONEDDS=1
-# setup.sh built the rclpy venv: the rclpy suite must run, not skip.
+# ros-venv.sh built the rclpy venv: the rclpy suite must run, not skip.
 export MOTION_REQUIRE_RCLPY=1
 cargo build --workspace --all-targets --quiet
 echo "== disk: target $(du -sh target 2>/dev/null | cut -f1), free $(df -h . | awk 'NR==2 {print $4}')"

@@ -1,6 +1,6 @@
 //! Real rclpy (ROS 2 Jazzy from PyPI, rmw_fastrtps_cpp: the Enhanced request/reply mapping)
 //! drives our nodes as a ROS user does (issue 13): `tests/rclpy/test_*.py` under pytest, in
-//! the venv that `scripts/ros-venv.sh` builds (`scripts/setup.sh` runs it). Without that venv
+//! the venv that `scripts/ros-venv.sh` builds (`scripts/test.sh` runs it). Without that venv
 //! the suite is skipped with a note, unless `MOTION_REQUIRE_RCLPY=1` (the test command sets
 //! it), which makes a missing venv a failure.
 
@@ -15,7 +15,7 @@ fn rclpy_suite() {
     if !venv.join(".stamp-motion_msgs").exists() {
         assert!(
             std::env::var("MOTION_REQUIRE_RCLPY").as_deref() != Ok("1"),
-            "the rclpy venv is missing: run scripts/ros-venv.sh (scripts/setup.sh does)"
+            "the rclpy venv is missing: run scripts/ros-venv.sh (scripts/test.sh does)"
         );
         println!("rclpy suite skipped: no .ros/venv (scripts/ros-venv.sh builds it)");
         return;

@@ -15,7 +15,7 @@ fn a_client_on_a_third_host_drives_nodes_on_two_others() {
     if !root.join(".ros/venv/.stamp-motion_msgs").exists() {
         assert!(
             std::env::var("MOTION_REQUIRE_RCLPY").as_deref() != Ok("1"),
-            "the rclpy venv is missing: run scripts/ros-venv.sh (scripts/setup.sh does)"
+            "the rclpy venv is missing: run scripts/ros-venv.sh (scripts/test.sh does)"
         );
         println!("skipped: no .ros/venv (scripts/ros-venv.sh builds it)");
         return;
