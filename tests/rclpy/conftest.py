@@ -103,3 +103,40 @@ def take(node, ex, msg_type, topic, timeout=10.0, qos=10, cond=lambda m: True):
         return got[0]
     finally:
         node.destroy_subscription(sub)
+
+
+def started(ros, config_text, name, *extra_args):
+    """Launches `config_text` and waits until node `name` is in the graph."""
+    launched = launch(config_text, *extra_args)
+    rnode, ex = ros
+    spin_until(ex, lambda: name in rnode.get_node_names(), 20, f"{name} in the graph")
+    return launched
+
+
+def send_goal(rnode, ex, action_type, name, goal, feedback=None):
+    """An action goal as an rclpy user sends it; returns (client, accepted goal handle)."""
+    from rclpy.action import ActionClient
+    ac = ActionClient(rnode, action_type, name)
+    assert ac.wait_for_server(timeout_sec=20.0), f"action {name} not found"
+    fut = ac.send_goal_async(goal, feedback_callback=feedback)
+    ex.spin_until_future_complete(fut, timeout_sec=10.0)
+    handle = fut.result()
+    assert handle is not None and handle.accepted, f"{name}: goal not accepted"
+    return ac, handle
+
+
+def result_of(ex, handle, timeout=30.0):
+    """The goal's end: a GetResult response (status, result)."""
+    fut = handle.get_result_async()
+    ex.spin_until_future_complete(fut, timeout_sec=timeout)
+    assert fut.done(), f"no result within {timeout} s"
+    return fut.result()
+
+
+def run_goal(rnode, ex, action_type, name, goal, feedback=None, timeout=30.0):
+    """send_goal, then its result; the client is destroyed."""
+    ac, handle = send_goal(rnode, ex, action_type, name, goal, feedback)
+    try:
+        return result_of(ex, handle, timeout)
+    finally:
+        ac.destroy()

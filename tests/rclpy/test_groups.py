@@ -4,9 +4,8 @@ behind the leader and then reaches its target."""
 
 import pytest
 from action_msgs.msg import GoalStatus
-from rclpy.action import ActionClient
 
-from conftest import call, launch, spin_until, take
+from conftest import call, result_of, run_goal, send_goal, started, take
 from motion_msgs.action import MoveAbsoluteCa, MoveLinearAbsolute
 from motion_msgs.msg import CaGroupState, McLreal
 from motion_msgs.srv import (AxesGroupCommand, AxesGroupReadActual, CaAddAxis, CaGroupCommand,
@@ -30,31 +29,14 @@ nodes:
 
 @pytest.fixture(scope="module")
 def node(ros):
-    launched = launch(CONFIG)
+    launched = started(ros, CONFIG, "axis_node")
     rnode, ex = ros
-    spin_until(ex, lambda: "axis_node" in rnode.get_node_names(), 20, "axis_node in the graph")
     for axis in ("x", "y"):  # a and b: auto_power
         r = call(rnode, ex, Power, "/axis_node/power", axis=axis, enable=True,
                  enable_positive=True, enable_negative=True, override=100.0)
         assert r.accepted, r.message
     yield rnode, ex
     launched.stop()
-
-
-def run_goal(rnode, ex, action_type, name, goal, feedback=None):
-    ac = ActionClient(rnode, action_type, name)
-    try:
-        assert ac.wait_for_server(timeout_sec=20.0)
-        fut = ac.send_goal_async(goal, feedback_callback=feedback)
-        ex.spin_until_future_complete(fut, timeout_sec=10.0)
-        handle = fut.result()
-        assert handle is not None and handle.accepted
-        res = handle.get_result_async()
-        ex.spin_until_future_complete(res, timeout_sec=30.0)
-        assert res.done(), f"{name}: no result"
-        return res.result()
-    finally:
-        ac.destroy()
 
 
 def test_part4_group_linear_move(node):
@@ -82,12 +64,8 @@ def test_ca_follower_keeps_its_gap(node):
          cond=lambda s: s.state == CaGroupState.STATE_GROUP_STANDBY and len(s.axes) == 2)
     # b (at 500) to 2000 past a (at 1000, standing): it waits at 900, the default gap behind.
     v = lambda x: McLreal(kind=McLreal.VALUE, value=x)  # noqa: E731
-    ac = ActionClient(rnode, MoveAbsoluteCa, f"{ns}/move_absolute")
-    assert ac.wait_for_server(timeout_sec=20.0)
-    fut = ac.send_goal_async(MoveAbsoluteCa.Goal(axis="b", position=v(2000.0), velocity=v(500.0)))
-    ex.spin_until_future_complete(fut, timeout_sec=10.0)
-    handle = fut.result()
-    assert handle.accepted
+    ac, handle = send_goal(rnode, ex, MoveAbsoluteCa, f"{ns}/move_absolute",
+                           MoveAbsoluteCa.Goal(axis="b", position=v(2000.0), velocity=v(500.0)))
     def waiting(s):
         b = [x for x in s.axes if x.name == "b"][0]
         return b.active_command_id != 0 and abs(b.velocity) < 1e-9 and b.position > 800.0
@@ -100,8 +78,7 @@ def test_ca_follower_keeps_its_gap(node):
     res = run_goal(rnode, ex, MoveAbsoluteCa, f"{ns}/move_absolute",
                    MoveAbsoluteCa.Goal(axis="a", position=v(2900.0), velocity=v(1000.0)))
     assert res.status == GoalStatus.STATUS_SUCCEEDED, res.result.message
-    r = handle.get_result_async()
-    ex.spin_until_future_complete(r, timeout_sec=30.0)
-    assert r.result().status == GoalStatus.STATUS_SUCCEEDED, r.result().result.message
-    assert abs(r.result().result.final_position - 2000.0) < 1e-6
+    r = result_of(ex, handle)
+    assert r.status == GoalStatus.STATUS_SUCCEEDED, r.result.message
+    assert abs(r.result.final_position - 2000.0) < 1e-6
     ac.destroy()

@@ -3,10 +3,9 @@ one canceled while the TCP moves (xPathStop), with events and markers."""
 
 import pytest
 from action_msgs.msg import GoalStatus
-from rclpy.action import ActionClient
 from visualization_msgs.msg import MarkerArray
 
-from conftest import call, launch, spin_until, take
+from conftest import call, result_of, run_goal, send_goal, spin_until, started, take
 from motion_msgs.action import PickPlaceExecute
 from motion_msgs.msg import PickPlaceState
 from motion_msgs.srv import PickPlaceSetEnable, PickPlaceSetRegulatorOn
@@ -33,10 +32,8 @@ STATE_READY = 1
 
 @pytest.fixture(scope="module")
 def node(ros):
-    launched = launch(CONFIG)
+    launched = started(ros, CONFIG, "pickplace_node")
     rnode, ex = ros
-    spin_until(ex, lambda: "pickplace_node" in rnode.get_node_names(), 20,
-               "pickplace_node in the graph")
     r = call(rnode, ex, PickPlaceSetEnable, "/pickplace_node/set_enable", enable=True)
     assert r.accepted, r.message
     r = call(rnode, ex, PickPlaceSetRegulatorOn, "/pickplace_node/set_regulator_on",
@@ -44,31 +41,19 @@ def node(ros):
     assert r.accepted, r.message
     take(rnode, ex, PickPlaceState, "/pickplace_node/state", timeout=20,
          cond=lambda s: s.state == STATE_READY and s.axes_enabled)
-    ac = ActionClient(rnode, PickPlaceExecute, "/pickplace_node/pick_and_place")
-    assert ac.wait_for_server(timeout_sec=20.0)
-    yield rnode, ex, ac
-    ac.destroy()
+    yield rnode, ex
     launched.stop()
 
 
-def send(ex, ac, goal, feedback=None):
-    fut = ac.send_goal_async(goal, feedback_callback=feedback)
-    ex.spin_until_future_complete(fut, timeout_sec=10.0)
-    handle = fut.result()
-    assert handle is not None and handle.accepted
-    return handle
-
-
 def test_pick_and_place_goal_reaches_its_target(node):
-    rnode, ex, ac = node
+    rnode, ex = node
     target = [100.0, 50.0, 150.0, 180.0, 0.0, 30.0, 0.0]
-    handle = send(ex, ac, PickPlaceExecute.Goal(set_target=0, use_target_pose=True,
-                                                target_pose=target, params=""))
-    res = handle.get_result_async()
-    ex.spin_until_future_complete(res, timeout_sec=30.0)
-    assert res.result().status == GoalStatus.STATUS_SUCCEEDED, res.result().result
-    assert res.result().result.done
-    for a, b in zip(res.result().result.tcp, target):
+    res = run_goal(rnode, ex, PickPlaceExecute, "/pickplace_node/pick_and_place",
+                   PickPlaceExecute.Goal(set_target=0, use_target_pose=True,
+                                         target_pose=target, params=""))
+    assert res.status == GoalStatus.STATUS_SUCCEEDED, res.result
+    assert res.result.done
+    for a, b in zip(res.result.tcp, target):
         assert abs(a - b) < 1e-6
     m = take(rnode, ex, MarkerArray, "/pickplace_node/markers", timeout=10)
     tcp = [k for k in m.markers if k.ns == "tcp"][0]
@@ -77,18 +62,20 @@ def test_pick_and_place_goal_reaches_its_target(node):
 
 
 def test_cancel_stops_the_path(node):
-    rnode, ex, ac = node
+    rnode, ex = node
     feedback = []
-    handle = send(ex, ac, PickPlaceExecute.Goal(
-        set_target=0, use_target_pose=True,
-        target_pose=[2100.0, 50.0, 150.0, 180.0, 0.0, 30.0, 0.0], params="{path_vel: 100}"),
-        feedback=lambda f: feedback.append(f.feedback))
+    ac, handle = send_goal(rnode, ex, PickPlaceExecute, "/pickplace_node/pick_and_place",
+                           PickPlaceExecute.Goal(
+                               set_target=0, use_target_pose=True,
+                               target_pose=[2100.0, 50.0, 150.0, 180.0, 0.0, 30.0, 0.0],
+                               params="{path_vel: 100}"),
+                           feedback=lambda f: feedback.append(f.feedback))
     spin_until(ex, lambda: feedback and feedback[-1].tcp[0] > 120.0, 10, "the TCP moving")
     cancel = handle.cancel_goal_async()
     ex.spin_until_future_complete(cancel, timeout_sec=10.0)
     assert len(cancel.result().goals_canceling) == 1
-    res = handle.get_result_async()
-    ex.spin_until_future_complete(res, timeout_sec=30.0)
-    assert res.result().status == GoalStatus.STATUS_CANCELED
-    assert res.result().result.command_aborted
-    assert res.result().result.tcp[0] < 2100.0
+    res = result_of(ex, handle)
+    ac.destroy()
+    assert res.status == GoalStatus.STATUS_CANCELED
+    assert res.result.command_aborted
+    assert res.result.tcp[0] < 2100.0

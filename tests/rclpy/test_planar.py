@@ -4,10 +4,9 @@ ride (enable the track, join it, move along it), poses and markers in metres."""
 import pytest
 from action_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseArray
-from rclpy.action import ActionClient
 from visualization_msgs.msg import MarkerArray
 
-from conftest import call, launch, spin_until, take
+from conftest import call, run_goal, started, take
 from motion_msgs.action import MoverJoinTrack, MoverMoveOnTrack, MoverMoveToPosition
 from motion_msgs.msg import PlanarState, PlanarTrackState
 from motion_msgs.srv import MoverEnable, TrackEnable
@@ -37,27 +36,9 @@ STATE_ENABLED = 3
 
 @pytest.fixture(scope="module")
 def node(ros):
-    launched = launch(CONFIG)
-    rnode, ex = ros
-    spin_until(ex, lambda: "planar_node" in rnode.get_node_names(), 20, "planar_node in the graph")
-    yield rnode, ex
+    launched = started(ros, CONFIG, "planar_node")
+    yield ros
     launched.stop()
-
-
-def run_goal(rnode, ex, action_type, name, goal, timeout=30.0):
-    ac = ActionClient(rnode, action_type, name)
-    try:
-        assert ac.wait_for_server(timeout_sec=20.0)
-        fut = ac.send_goal_async(goal)
-        ex.spin_until_future_complete(fut, timeout_sec=10.0)
-        handle = fut.result()
-        assert handle is not None and handle.accepted
-        res = handle.get_result_async()
-        ex.spin_until_future_complete(res, timeout_sec=timeout)
-        assert res.done(), f"{name}: no result within {timeout} s"
-        return res.result()
-    finally:
-        ac.destroy()
 
 
 def mover(state, name):

@@ -4,7 +4,7 @@ overridden, all visible to rclpy."""
 import pytest
 from rcl_interfaces.srv import GetParameters
 
-from conftest import call, launch, spin_until, take
+from conftest import call, spin_until, started, take
 from motion_msgs.msg import AxisStateArray
 
 CONFIG = """
@@ -16,11 +16,9 @@ nodes:
 
 @pytest.fixture(scope="module")
 def node(ros):
-    launched = launch(CONFIG, "--ros-args", "-r", "__node:=arm", "-r",
-                      "~/axis_states:=/arm_states", "-p", "state_rate:=25.0", "--")
-    rnode, ex = ros
-    spin_until(ex, lambda: "arm" in rnode.get_node_names(), 20, "the renamed node")
-    yield rnode, ex
+    launched = started(ros, CONFIG, "arm", "--ros-args", "-r", "__node:=arm", "-r",
+                       "~/axis_states:=/arm_states", "-p", "state_rate:=25.0", "--")
+    yield ros
     launched.stop()
 
 

@@ -6,7 +6,7 @@ import pytest
 from rcl_interfaces.srv import GetParameters
 from rosgraph_msgs.msg import Clock
 
-from conftest import call, launch, spin_until, take
+from conftest import call, spin_until, started
 from motion_msgs.msg import AxisStateArray
 from motion_msgs.srv import StepCycles
 
@@ -32,13 +32,6 @@ nodes:
     cycle_period: 0.001
 {AXIS}
 """
-
-
-def started(ros, config, name):
-    launched = launch(config)
-    rnode, ex = ros
-    spin_until(ex, lambda: name in rnode.get_node_names(), 20, f"{name} in the graph")
-    return launched
 
 
 @pytest.fixture
