@@ -104,6 +104,12 @@ pub fn mover_state(m: &MoverSnapshot) -> PlanarMoverState {
         velocity_a: m.set_velo.a,
         velocity_b: m.set_velo.b,
         velocity_c: m.set_velo.c,
+        acceleration_x: m.set_acc.x,
+        acceleration_y: m.set_acc.y,
+        acceleration_z: m.set_acc.z,
+        acceleration_a: m.set_acc.a,
+        acceleration_b: m.set_acc.b,
+        acceleration_c: m.set_acc.c,
         ..Default::default()
     };
     crate::tracks::set_on_track(m, &mut out);
@@ -446,6 +452,21 @@ movers: [{name: m1, initial_pose: {x: 120, y: 120, c: 90}, width: 155, height: 1
         assert_eq!(m.parts[0].name, "table");
         assert_eq!(m.parts[0].coordinate_system_oid, 0x01010060);
         assert_eq!(m.movers[0].part, "table");
+    }
+
+    /// §4.4 SET.SetAcc is in the mover state (issue 15 item 4), copied field by field.
+    #[test]
+    fn mover_state_carries_the_set_acceleration() {
+        let (_, s) = snapshot(CFG);
+        let mut m = s.state.movers[0].clone();
+        m.set_acc.x = 1.5;
+        m.set_acc.y = -2.5;
+        m.set_acc.c = 30.0;
+        let out = mover_state(&m);
+        assert_eq!(
+            (out.acceleration_x, out.acceleration_y, out.acceleration_c),
+            (1.5, -2.5, 30.0)
+        );
     }
 
     #[test]
