@@ -57,7 +57,8 @@ fi
 # The wheels' Python-binding cmake exports name the wheel build image's include paths.
 PY_INCLUDE=$("$V/bin/python" -c "import sysconfig; print(sysconfig.get_paths()['include'])")
 NUMPY_INCLUDE=$("$V/bin/python" -c "import numpy; print(numpy.get_include())")
-grep -rl /opt/python/cp311-cp311/ "$V"/share/*/cmake | xargs -r sed -i \
+# (Already fixed on a rebuild of one package: then nothing matches, which is fine.)
+{ grep -rl /opt/python/cp311-cp311/ "$V"/share/*/cmake || true; } | xargs -r sed -i \
   -e "s#/opt/python/cp311-cp311/include/python3.11#$PY_INCLUDE#g" \
   -e "s#/opt/python/cp311-cp311/lib/python3.11/site-packages/numpy/_core/include#$NUMPY_INCLUDE#g"
 
