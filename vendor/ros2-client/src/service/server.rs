@@ -41,8 +41,10 @@ where
 }
 
 /// motion-suite patch: longest a reply waits for the requester's reply reader
-/// to be matched (rmw_fastrtps and rmw_cyclonedds wait likewise).
-pub const REPLY_MATCH_WAIT: Duration = Duration::from_millis(500);
+/// to be matched (rmw_fastrtps and rmw_cyclonedds wait likewise). 500 ms lost a
+/// fresh participant's first reply once in a loaded test run (discovery of its
+/// reader took longer); an unmatched reply is lost for good, a late one is not.
+pub const REPLY_MATCH_WAIT: Duration = Duration::from_secs(3);
 
 /// Requests whose requester is remembered; beyond this the oldest are
 /// forgotten (their replies then go out without waiting).
