@@ -573,6 +573,9 @@ impl<E: Engine> CycleThread<E> {
 
     /// Answers every queued request with "not running" (fail-safe: nothing new may start).
     fn refuse_commands(&mut self) {
+        // A custom cycle held between lockstep steps must not run in the fail-safe stop;
+        // dropping it answers its caller "not running".
+        self.held = None;
         while let Ok(req) = self.rx.try_recv() {
             match req {
                 Request::Command { reply, .. } => {
