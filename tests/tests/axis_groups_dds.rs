@@ -25,10 +25,9 @@ use motion_msgs::srv::{
     AxesGroupStopResponse, FbCycle, FbCycleRequest, FbCycleResponse, GetOutputs, GetOutputsRequest,
     GetOutputsResponse, MoveLinearRelativeRequest, MoveLinearRelativeResponse,
     PlatformInjectMcMessage, PlatformInjectMcMessageRequest, PlatformInjectMcMessageResponse,
-    PlatformVersions, PlatformVersionsRequest, PlatformVersionsResponse, Power, PowerRequest,
-    PowerResponse, SafetyButton, SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode,
-    SafetyOperatingModeRequest, SafetyOperatingModeResponse, SubmitBatch, SubmitBatchRequest,
-    SubmitBatchResponse,
+    PlatformVersions, PlatformVersionsRequest, PlatformVersionsResponse, SafetyButton,
+    SafetyButtonRequest, SafetyButtonResponse, SafetyOperatingMode, SafetyOperatingModeRequest,
+    SafetyOperatingModeResponse, SubmitBatch, SubmitBatchRequest, SubmitBatchResponse,
 };
 use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::{Client, ServiceMapping};
@@ -46,22 +45,8 @@ fn start_node(domain: u16, mapping: ServiceMapping, profile: &str) -> AxisNode {
 }
 
 async fn power(c: &mut ClientNode) {
-    let power = c
-        .client::<PowerRequest, PowerResponse>("/axis_node/power", Power::service_type_name())
-        .await;
     for axis in ["x", "y"] {
-        let r = within(
-            5.0,
-            "power",
-            power.async_call_service(PowerRequest {
-                axis: axis.into(),
-                enable: true,
-                ..Default::default()
-            }),
-        )
-        .await
-        .unwrap();
-        assert!(r.accepted, "power {axis}: {}", r.message);
+        c.power_on(axis).await;
     }
 }
 

@@ -220,20 +220,11 @@ fn point(p: [f64; 3]) -> Point {
 
 /// Quaternion of R = Rz(C)·Ry(B)·Rx(A), angles in degrees (the belt frame of §7.1).
 pub fn quaternion_zyx(a_deg: f64, b_deg: f64, c_deg: f64) -> Quaternion {
-    let (ha, hb, hc) = (
-        a_deg.to_radians() / 2.0,
-        b_deg.to_radians() / 2.0,
-        c_deg.to_radians() / 2.0,
-    );
-    let (sa, ca) = ha.sin_cos();
-    let (sb, cb) = hb.sin_cos();
-    let (sc, cc) = hc.sin_cos();
-    Quaternion {
-        w: cc * cb * ca + sc * sb * sa,
-        x: cc * cb * sa - sc * sb * ca,
-        y: cc * sb * ca + sc * cb * sa,
-        z: sc * cb * ca - cc * sb * sa,
-    }
+    motion_runtime::shell::quaternion_rpy(
+        a_deg.to_radians(),
+        b_deg.to_radians(),
+        c_deg.to_radians(),
+    )
 }
 
 /// Rotates `v` by R = Rz(C)·Ry(B)·Rx(A) (degrees).

@@ -166,15 +166,7 @@ pub fn planar_state(s: &Stamped<PlanarSnapshot>) -> PlanarState {
 
 /// Roll a, pitch b, yaw c \[deg\] (rotation z-y'-x'') as a quaternion.
 fn quaternion(a: f64, b: f64, c: f64) -> Quaternion {
-    let (sr, cr) = (a.to_radians() / 2.0).sin_cos();
-    let (sp, cp) = (b.to_radians() / 2.0).sin_cos();
-    let (sy, cy) = (c.to_radians() / 2.0).sin_cos();
-    Quaternion {
-        x: sr * cp * cy - cr * sp * sy,
-        y: cr * sp * cy + sr * cp * sy,
-        z: cr * cp * sy - sr * sp * cy,
-        w: cr * cp * cy + sr * sp * sy,
-    }
+    motion_runtime::shell::quaternion_rpy(a.to_radians(), b.to_radians(), c.to_radians())
 }
 
 /// The pose of a mover's centre in metres: x, y, and z = lift (the top of the stators is 0).

@@ -100,17 +100,23 @@ where
         if meta.target().starts_with("ros2_client") || meta.target().starts_with("rustdds") {
             return;
         }
-        let Some(node) = ctx.event_scope(event).and_then(|scope| {
-            scope
-                .from_root()
-                .find_map(|span| span.extensions().get::<NodeName>().map(|n| n.0.clone()))
-        }) else {
+        let Some(scope) = ctx.event_scope(event) else {
+            return;
+        };
+        let Some(span) = scope
+            .from_root()
+            .find(|span| span.extensions().get::<NodeName>().is_some())
+        else {
+            return;
+        };
+        let ext = span.extensions();
+        let Some(NodeName(node)) = ext.get::<NodeName>() else {
             return;
         };
         let Ok(routes) = routes().try_lock() else {
             return;
         };
-        let Some((_, handle)) = routes.iter().find(|(n, _)| *n == node) else {
+        let Some((_, handle)) = routes.iter().find(|(n, _)| n == node) else {
             return;
         };
         let mut v = MessageVisitor(String::new());

@@ -210,6 +210,24 @@ pub fn stamp_ns(ns: i64) -> Time {
     }
 }
 
+/// The rotation R = Rz(yaw)·Ry(pitch)·Rx(roll) (angles in rad) as a quaternion, as tf2's
+/// `setRPY`: the one conversion of every node's frames, poses and markers.
+pub fn quaternion_rpy(
+    roll: f64,
+    pitch: f64,
+    yaw: f64,
+) -> motion_msgs::deps::geometry_msgs::msg::Quaternion {
+    let (sr, cr) = (roll / 2.0).sin_cos();
+    let (sp, cp) = (pitch / 2.0).sin_cos();
+    let (sy, cy) = (yaw / 2.0).sin_cos();
+    motion_msgs::deps::geometry_msgs::msg::Quaternion {
+        x: sr * cp * cy - cr * sp * sy,
+        y: cr * sp * cy + sr * cp * sy,
+        z: cr * cp * sy - sr * sp * cy,
+        w: cr * cp * cy + sr * sp * sy,
+    }
+}
+
 /// The stamp of a snapshot: the node's ROS time of its cycle (wall clock when free-running,
 /// simulated time in lockstep or with `use_sim_time`; see [`crate::clock`]).
 pub fn stamp<S>(s: &Stamped<S>) -> Time {
@@ -500,9 +518,7 @@ where
     /// as tf2's static broadcaster), placed at `tf_pose` in `tf_parent`, so that RViz shows
     /// every node's markers under one root.
     pub fn static_frame(&mut self, child: &str) -> Result<(), ShellError> {
-        use motion_msgs::deps::geometry_msgs::msg::{
-            Quaternion, Transform, TransformStamped, Vector3,
-        };
+        use motion_msgs::deps::geometry_msgs::msg::{Transform, TransformStamped, Vector3};
         use motion_msgs::deps::std_msgs::msg::Header;
         use motion_msgs::deps::tf2_msgs::msg::TFMessage;
         use ros2_client::qos::{Durability, History};
@@ -518,10 +534,6 @@ where
             .create_publisher::<TFMessage>(&topic, None)
             .map_err(err("publisher"))?;
         let [x, y, z, roll, pitch, yaw] = self.settings.tf_pose;
-        // q = Rz(yaw) Ry(pitch) Rx(roll), as tf2's setRPY.
-        let (sr, cr) = (roll / 2.0).sin_cos();
-        let (sp, cp) = (pitch / 2.0).sin_cos();
-        let (sy, cy) = (yaw / 2.0).sin_cos();
         let msg = TFMessage {
             transforms: vec![TransformStamped {
                 header: Header {
@@ -531,12 +543,7 @@ where
                 child_frame_id: child.to_string(),
                 transform: Transform {
                     translation: Vector3 { x, y, z },
-                    rotation: Quaternion {
-                        x: sr * cp * cy - cr * sp * sy,
-                        y: cr * sp * cy + sr * cp * sy,
-                        z: cr * cp * sy - sr * sp * cy,
-                        w: cr * cp * cy + sr * sp * sy,
-                    },
+                    rotation: quaternion_rpy(roll, pitch, yaw),
                 },
             }],
         };
