@@ -230,6 +230,28 @@ impl Profile1 {
         p
     }
 
+    /// The same motion seen from a frame that starts at `pos` and moves at the constant
+    /// velocity `vel`: every state gains `pos + vel·t` (and `vel`). A plan relative to a
+    /// moving target (gear-in chase) becomes an absolute plan this way; with `vel = 0` it is a
+    /// plain position offset. A moving frame keeps the end moving after `duration`.
+    pub fn moved_by(&self, pos: f64, vel: f64) -> Profile1 {
+        let mut p = *self;
+        for s in &mut p.seg[..p.n] {
+            s.p += pos + vel * s.t0;
+            s.v += vel;
+        }
+        p.end.pos += pos + vel * p.duration;
+        p.end.vel += vel;
+        p.continues |= vel != 0.0;
+        p
+    }
+
+    /// True if the motion goes on at the end velocity after `duration` (velocity targets,
+    /// [`Profile1::hold`], moving frames); false if it rests at the end.
+    pub fn continues(&self) -> bool {
+        self.continues
+    }
+
     /// Total duration \[s\].
     pub fn duration(&self) -> f64 {
         self.duration

@@ -524,3 +524,38 @@ fn hold_keeps_constant_velocity() {
         }
     );
 }
+
+#[test]
+fn moved_by_adds_a_moving_frame() {
+    let l = Limits {
+        velocity: 10.0,
+        acceleration: 20.0,
+        deceleration: 20.0,
+        jerk: 200.0,
+    };
+    let rel = Profile1::to_position(
+        State1 {
+            pos: 2.0,
+            vel: 1.0,
+            acc: 0.0,
+        },
+        0.0,
+        0.0,
+        &l,
+    )
+    .unwrap();
+    let abs = rel.moved_by(100.0, 5.0);
+    assert!(abs.continues() && !rel.continues());
+    assert_eq!(abs.duration(), rel.duration());
+    for k in 0..=40 {
+        let t = rel.duration() * 1.5 * k as f64 / 40.0;
+        let (r, a) = (rel.at(t), abs.at(t));
+        assert!((a.pos - (r.pos + 100.0 + 5.0 * t)).abs() < 1e-9, "t {t}");
+        assert!((a.vel - (r.vel + 5.0)).abs() < 1e-9);
+        assert!((a.acc - r.acc).abs() < 1e-9);
+    }
+    // A pure offset keeps a resting end at rest.
+    let off = rel.moved_by(-3.0, 0.0);
+    assert!(!off.continues());
+    assert_eq!(off.end().pos, -3.0);
+}

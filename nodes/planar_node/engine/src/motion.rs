@@ -42,6 +42,15 @@ impl Axis1 {
         self.plan.is_some() || self.vel != 0.0 || self.acc != 0.0
     }
 
+    /// The axis's motion as a profile and the time in it of the current state: its plan, or
+    /// a hold at the current state (constant velocity) without one.
+    pub fn motion(&self) -> (Profile1, f64) {
+        match &self.plan {
+            Some((p, t)) => (*p, *t),
+            None => (Profile1::hold(self.state()), 0.0),
+        }
+    }
+
     /// Forgets the plan but keeps the current state (another command takes the axis over).
     pub fn drop_plan(&mut self) {
         self.plan = None;

@@ -203,3 +203,74 @@ fn axis_and_gear_bad_requests() {
     });
     assert_eq!(e.error_id, E_INVALID_PARAMETER);
 }
+
+/// Issue 15.1 (§5.8.1): the coupling law s = s_sync + (m - m_sync) holds within the in-sync
+/// tolerance while the master moves, and `in_sync` is held while on it. Master X at rest at 0
+/// moves to 700 at 100 mm/s (a 1000, j 10000); sync positions 100/100, so s = X. With the
+/// slave sync position 150 (s = X + 50) the slave first catches up, then follows.
+fn follow_law(s_sync: f64) -> (f64, usize, usize) {
+    let mut s = sim(&["T1", "T2"]);
+    s.ok(line("T1", (100.0, 100.0), (400.0, 100.0)));
+    enable_track(&mut s, "T1");
+    s.ok(PlanarCommand::TrackStartFromTrack {
+        track: "T2".into(),
+        other: "T1".into(),
+    });
+    s.ok(line("T2", (500.0, 100.0), (860.0, 100.0)));
+    enable_track(&mut s, "T2");
+    s.enable("M");
+    join_wait(&mut s, "M", "T1", true);
+    s.ok(PlanarCommand::AxisPower {
+        axis: "X".into(),
+        enable: true,
+    });
+    let mut g = gear(&["T1", "T2"], 100.0, s_sync, "T1");
+    if let PlanarCommand::GearInPosOnTrack { options, .. } = &mut g {
+        options.in_sync_tolerance_distance = 0.5;
+    }
+    let g = s.ok(g);
+    s.steps(1000);
+    assert!(on_track(&s, "M").in_sync, "in sync at rest");
+    s.ok(PlanarCommand::AxisMoveAbsolute {
+        axis: "X".into(),
+        position: 600.0,
+        velocity: 100.0,
+        acceleration: 1000.0,
+        deceleration: 1000.0,
+        jerk: 10000.0,
+    });
+    let (mut n, mut synced, mut worst) = (0, 0, 0.0f64);
+    loop {
+        s.step();
+        let a = &s.snap().axes[0];
+        let (x, v) = (a.position, a.velocity);
+        let o = on_track(&s, "M");
+        // Route coordinate: T1 is 300 long, T2 continues at 300.
+        let r = if o.track == "T2" {
+            300.0 + o.set_pos
+        } else {
+            o.set_pos
+        };
+        worst = worst.max((r - (x + s_sync - 100.0)).abs());
+        synced += o.in_sync as usize;
+        n += 1;
+        if v == 0.0 && x > 599.0 {
+            break;
+        }
+        assert!(n < 20_000);
+    }
+    assert_eq!(s.state(g), Some(CommandState::Active));
+    (worst, synced, n)
+}
+
+#[test]
+fn gear_in_follows_the_coupling_law_while_the_master_moves() {
+    for s_sync in [100.0, 150.0] {
+        let (worst, synced, n) = follow_law(s_sync);
+        assert!(worst <= 1e-6, "s_sync {s_sync}: off the law by {worst} mm");
+        assert_eq!(
+            synced, n,
+            "s_sync {s_sync}: in_sync held in {synced} of {n} cycles"
+        );
+    }
+}

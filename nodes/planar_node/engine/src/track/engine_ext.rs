@@ -1809,6 +1809,43 @@ impl PlanarEngine {
         }
     }
 
+    /// The master's motion (master coordinates) as a profile, and the time in it that belongs
+    /// to the slave's current state: axes and movers before `i` have already advanced this
+    /// cycle, movers after it not yet.
+    fn master_motion(&self, g: &GearIn, i: usize, dt: f64) -> Option<(Profile1, f64)> {
+        let ((p, t), advanced) = match g.master {
+            Master::Mover(j) => {
+                let mt = self.movers[j].track.as_ref()?;
+                let motion = match &mt.plan {
+                    Some((mp, t)) => (*mp, *t),
+                    None => (Profile1::hold(mt.state()), 0.0),
+                };
+                (motion, j < i)
+            }
+            Master::Axis(a) => (self.axes[a].ax.motion(), true),
+        };
+        let p = if let Master::Mover(_) = g.master {
+            p.moved_by(-g.master_origin, 0.0)
+        } else {
+            p
+        };
+        if !advanced {
+            return Some((p, t));
+        }
+        Some(if t >= dt {
+            (p, t - dt)
+        } else {
+            // Started this cycle: go back along the start state.
+            let s = p.at(t);
+            let back = State1 {
+                pos: s.pos - s.vel * dt,
+                vel: s.vel,
+                acc: 0.0,
+            };
+            (Profile1::hold(back), 0.0)
+        })
+    }
+
     /// Route coordinate of the start of track `k` for a mover (None if not on its way).
     fn start_r(&self, tm: &TrackMotion, k: usize) -> Option<f64> {
         if k == tm.track {
@@ -2012,6 +2049,7 @@ impl PlanarEngine {
             follow: o.follow_mover,
             in_sync: false,
             ever_synced: false,
+            coupled: false,
             boundary: false,
         });
         m.xy_cmd = Some(id);
@@ -2042,7 +2080,7 @@ impl PlanarEngine {
         if g.boundary || tm.braking {
             return;
         }
-        let Some((m_pos, mv)) = self.master_state(g, 0.0) else {
+        if self.master_state(g, 0.0).is_none() {
             // The master left its track: the coupling ends.
             let ev_ = &mut self.pending;
             let m = &mut self.movers[i];
@@ -2052,7 +2090,7 @@ impl PlanarEngine {
                 t.plan_stop(&d);
             }
             return;
-        };
+        }
         // followMover: the slave's way grows with the master's path.
         let mut extend: Vec<usize> = Vec::new();
         if let (true, Master::Mover(j)) = (g.follow, g.master) {
@@ -2069,34 +2107,63 @@ impl PlanarEngine {
                 }
             }
         }
-        let s_star = g.s_sync + (m_pos - g.m_sync);
-        let in_sync = (tm.r - s_star).abs() <= g.tol && (tm.v - mv).abs() <= 0.1;
+        let Some((mp, t0)) = self.master_motion(g, i, dt) else {
+            return;
+        };
+        // s* = s_sync + (m - m_sync); `mc` is the master at the slave's current time.
+        let off = g.s_sync - g.m_sync;
+        let mc = mp.at(t0);
+        let s_star = off + mc.pos;
+        let in_sync = (tm.r - s_star).abs() <= g.tol && (tm.v - mc.vel).abs() <= 0.1;
         let lim = limits_of(&g.dyn_);
         let state = tm.state();
-        // The master's state after `h` seconds: its own plan if it has one (exact), else
-        // constant velocity (§5.8.1).
-        let predict = |h: f64| self.master_state(g, h).unwrap_or((m_pos, 0.0));
-        let goal = |h: f64| {
-            let (m, v) = predict(h);
+        // Direct coupling (§5.8.1): once the slave is on the law, it follows the master's
+        // own motion as long as that stays within the slave's dynamics.
+        let mn = mp.at(t0 + dt);
+        let eps = 1e-9;
+        let within = mn.vel.abs() <= lim.velocity * (1.0 + eps)
+            && mn.acc <= lim.acceleration.max(lim.deceleration) * (1.0 + eps)
+            && -mn.acc <= lim.acceleration.max(lim.deceleration) * (1.0 + eps);
+        let coupled_plan = (mp.moved_by(off, 0.0), t0);
+        let vrel = lim.velocity - mc.vel.abs();
+        let (mut p, coupled) = if g.coupled && in_sync && within {
+            (Some(coupled_plan), true)
+        } else if vrel > 1e-6 {
+            // Chase: a time-optimal plan to the target, relative to a frame that moves with
+            // the master's current velocity (constant over the horizon, §5.8.1), so that the
+            // slave arrives on the law with the master's velocity.
+            let rel = State1 {
+                pos: tm.r - s_star,
+                vel: tm.v - mc.vel,
+                acc: tm.a,
+            };
+            let rl = Limits {
+                velocity: vrel,
+                ..lim
+            };
+            match Profile1::to_position(rel, 0.0, 0.0, &rl) {
+                Ok(q) if q.duration() <= dt + 1e-12 && within => (Some(coupled_plan), true),
+                Ok(q) => (Some((q.moved_by(s_star, mc.vel), 0.0)), false),
+                Err(_) => (None, false),
+            }
+        } else {
+            // The master is faster than the slave may go: the slave still tries at its
+            // limit, no error (§5.8.1; the master may slow down later).
+            let v = mc.vel.clamp(-lim.velocity, lim.velocity);
             (
-                g.s_sync + (m - g.m_sync),
-                v.clamp(-lim.velocity, lim.velocity),
+                Profile1::to_velocity(state, v, &lim).ok().map(|q| (q, 0.0)),
+                false,
             )
         };
-        let (g0, v0) = goal(0.0);
-        let mut p = Profile1::to_position(state, g0, v0, &lim).ok();
-        for _ in 0..4 {
-            let h = p.as_ref().map(|x| x.duration()).unwrap_or(0.0);
-            let (gh, vh) = goal(h);
-            if let Ok(q) = Profile1::to_position(state, gh, vh, &lim) {
-                p = Some(q);
-            }
-        }
+        let predict = |h: f64| {
+            let x = mp.at(t0 + h);
+            (x.pos, x.vel)
+        };
         let d = (g.dyn_.deceleration, g.dyn_.jerk);
         // allowedSlaveSyncDirections restricts the velocity sign until first synchronous.
         if !g.ever_synced {
-            if let Some(q) = &p {
-                let c = q.at(dt.min(q.duration()));
+            if let Some((q, tq)) = &p {
+                let c = q.at(tq + dt);
                 let wrong = match g.allowed {
                     SyncDirections::Positive => c.vel < -1e-9,
                     SyncDirections::Negative => c.vel > 1e-9,
@@ -2106,7 +2173,7 @@ impl PlanarEngine {
                     p = if tm.v == 0.0 && tm.a == 0.0 {
                         None
                     } else {
-                        Profile1::stopping(state, &lim).ok()
+                        Profile1::stopping(state, &lim).ok().map(|q| (q, 0.0))
                     };
                 }
             }
@@ -2116,24 +2183,25 @@ impl PlanarEngine {
         // that the slave stops exactly on the boundary (error follows); a chase transient that
         // would touch the boundary only holds the slave back.
         let mut boundary = false;
-        if let Some(q) = &p {
-            let c = q.at(dt.min(q.duration()));
+        if let Some((q, tq)) = &p {
+            let c = q.at(tq + dt);
             let (lo, hi) = reach(c.pos, c.vel, c.acc, d.0, d.1);
             if hi > g.hi + 1e-9 || lo < g.lo - 1e-9 {
                 let (m_end, _) = predict(1e9);
-                let s_final = g.s_sync + (m_end - g.m_sync);
+                let s_final = off + m_end;
                 let beyond = hi > g.hi + 1e-9;
                 if (beyond && s_final > g.hi) || (!beyond && s_final < g.lo) {
                     let edge = if beyond { g.hi } else { g.lo };
                     p = Profile1::to_position(state, edge, 0.0, &lim)
                         .or_else(|_| Profile1::stopping(state, &lim))
-                        .ok();
+                        .ok()
+                        .map(|q| (q, 0.0));
                     boundary = true;
                 } else {
                     p = if tm.v == 0.0 && tm.a == 0.0 {
                         None
                     } else {
-                        Profile1::stopping(state, &lim).ok()
+                        Profile1::stopping(state, &lim).ok().map(|q| (q, 0.0))
                     };
                 }
             }
@@ -2142,10 +2210,11 @@ impl PlanarEngine {
         let m = &mut self.movers[i];
         let tm = m.track.as_mut().expect("on track");
         tm.route.extend(extend);
-        tm.plan = p.map(|q| (q, 0.0));
+        tm.plan = p;
         tm.plan_dyn = tm.cmd_dyn;
         let g = tm.gear.as_mut().expect("gear");
         g.hi += lens;
+        g.coupled = coupled && !boundary;
         g.in_sync = in_sync;
         g.ever_synced |= in_sync;
         g.boundary = boundary;
@@ -2353,7 +2422,9 @@ impl PlanarEngine {
         let tm = m.track.as_ref().expect("on track");
         let (next, plan_done) = match &tm.plan {
             Some((p, t)) => {
-                if t + dt >= p.duration() - 1e-12 {
+                // A plan that goes on moving after its end (gear-in) never finishes here.
+                let endless = p.continues() && p.end().vel != 0.0;
+                if !endless && t + dt >= p.duration() - 1e-12 {
                     (p.end(), true)
                 } else {
                     (p.at(t + dt), false)

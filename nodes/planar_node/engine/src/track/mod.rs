@@ -232,6 +232,8 @@ pub(crate) struct GearIn {
     pub follow: bool,
     pub in_sync: bool,
     pub ever_synced: bool,
+    /// On the law and following the master's own motion (direct coupling, §5.8.1).
+    pub coupled: bool,
     /// Braking to the trail boundary (ends with E_TRACK_BOUNDARY_REACHED).
     pub boundary: bool,
 }
