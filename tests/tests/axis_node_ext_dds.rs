@@ -140,7 +140,8 @@ impl Base {
         .await
     }
 
-    async fn power_on(&self, axis: &str) {
+    /// MC_Power with Enable; waits for Standstill and returns the MC_Power instance's id.
+    async fn power_on(&self, axis: &str) -> u64 {
         let r = call(
             &self.power,
             "power",
@@ -168,6 +169,7 @@ impl Base {
             }
         })
         .await;
+        r.command_id
     }
 }
 
@@ -184,7 +186,14 @@ async fn scenario(mapping: ServiceMapping, file: PathBuf) {
     let s_state = c.subscribe::<AxisState>("/axis_node/axes/s/state", AxisState::type_name());
     let b = Base::new(&mut c).await;
     for ax in ["m", "s", "m2", "e"] {
-        b.power_on(ax).await;
+        let id = b.power_on(ax).await;
+        // MC_Power's outputs by its command id (§4.1; issue 15.12).
+        let o = b.out(id).await;
+        assert_eq!((o.axis.as_str(), o.fb.as_str()), (ax, "MC_Power"), "{o:?}");
+        assert!(
+            o.status && o.valid && o.busy && o.active && !o.error,
+            "{o:?}"
+        );
     }
 
     // --- MC_GearIn s to m, then MC_PhasingRelative (action) to Done: SlavePos = s0 + ratio·Δm

@@ -267,6 +267,8 @@ async fn scenario(mapping: ServiceMapping) {
         .until_state("x", AxisState::MC_AXISSTATE_HOMING, "homing run")
         .await;
     assert!(s.homing && !s.standstill);
+    // NcToPlc.HomingState shows the phase (§4.10; issue 15.11).
+    assert!((1..=6).contains(&s.status.homing_state), "{s:?}");
     let (st, res) = within(30.0, "home result", home.async_request_result(gid))
         .await
         .unwrap();
@@ -283,6 +285,18 @@ async fn scenario(mapping: ServiceMapping) {
         "reference 100 + braking distance {braking}: {}",
         s.status.act_pos
     );
+    // The §1.5 simulation values: the raw machine position is unchanged by the calibration
+    // (reference = the falling cam edge at raw 20 in the positive sync direction, so ActPos =
+    // raw + 80), and the virtual cam is low one braking distance past its edge.
+    assert_eq!(s.status.homing_state, 0, "ready");
+    assert!(
+        (s.status.act_pos - s.status.raw_act_pos - 80.0).abs() < 1e-6,
+        "raw {} act {}",
+        s.status.raw_act_pos,
+        s.status.act_pos
+    );
+    assert!(!s.status.home_cam && s.status.raw_act_pos > 20.0);
+    assert!((s.status.set_pos - s.status.raw_set_pos - 80.0).abs() < 1e-6);
     // MC_Home with HomingMode 9 is not an MC_HomingMode: 0x7F03.
     let goal = action::HomeGoal {
         axis: "x".into(),
@@ -916,6 +930,14 @@ async fn more_fbs(mapping: ServiceMapping) {
     let s = a.status("x").await;
     assert!(
         (s.status.act_pos - 90.0).abs() < 1e-6 && (s.status.modulo_act_pos - 90.0).abs() < 1e-6,
+        "{s:?}"
+    );
+    // ModuloSetPos/ModuloSetTurns (NcToPlc, §4.8.5; issue 15.11): 400 = 1 turn + 40.
+    let r = a.move_abs("x", 400.0, 500.0, 0).await;
+    a.until(r.command_id, "move to 400 Done", |o| o.done).await;
+    let s = a.status("x").await;
+    assert!(
+        (s.status.modulo_set_pos - 40.0).abs() < 1e-6 && s.status.modulo_set_turns == 1,
         "{s:?}"
     );
     // MC_Direction 2 (shortest way) with a target beyond the period: 0x4B06.

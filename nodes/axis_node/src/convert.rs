@@ -46,6 +46,14 @@ pub fn axis_state(a: &AxisStatus, stamp: Time) -> AxisState {
         ext_torque: a.ext.ext_torque,
         encoder_increments: a.ext.encoder_increments,
         control_loop_index: a.ext.control_loop_index,
+        homing_state: a.homing_state,
+        modulo_set_pos: a.modulo_set_pos,
+        modulo_set_turns: a.modulo_set_turns,
+        set_position_offset: a.set_position_offset,
+        set_torque: a.set_torque,
+        raw_set_pos: a.raw_pos,
+        raw_act_pos: a.raw_act_pos,
+        home_cam: a.home_cam,
     }
 }
 

@@ -169,6 +169,10 @@ fn extra_outputs(x: Option<ExtraOutputs>) -> GetOutputsResponse {
             r.limiting = limiting;
         }
         Some(ExtraOutputs::CorrectionLimiter { limiting }) => r.limiting = limiting,
+        Some(ExtraOutputs::Power { status, valid }) => {
+            r.status = status;
+            r.valid = valid;
+        }
         Some(ExtraOutputs::TableCompensation {
             enabled,
             current_correction,

@@ -123,6 +123,10 @@ pub(crate) struct Axis {
     pub override_pct: f64,
     /// Override written by MC_Power \[%\].
     pub power_override: f64,
+    /// The command id of this axis' MC_Power instance (from its first call on).
+    pub power_id: Option<motion_core::CmdId>,
+    /// MC_Power.ErrorID of its last call (override out of range); NONE after a good call.
+    pub power_error: ErrorId,
     /// MC_SetOverride while enabled (VelFactor × 100) \[%\]; has precedence (§4.7.10).
     pub set_override: Option<f64>,
     pub controller_on: bool,
@@ -216,6 +220,8 @@ impl Axis {
             enable_negative: false,
             override_pct: 100.0,
             power_override: 100.0,
+            power_id: None,
+            power_error: ErrorId::NONE,
             set_override: None,
             controller_on: false,
             status: false,
@@ -1101,6 +1107,8 @@ impl Axis {
             cmd_no: self.cmd_no,
             homing_state: self.homing.map_or(0, |h| h.phase),
             raw_pos: self.set.pos - self.coord_offset,
+            raw_act_pos: self.raw_act(),
+            home_cam: self.virtual_cam(self.raw_act()),
             set_position_offset: self.set_position_offset,
             set_torque: self.set_torque,
             ext: Default::default(),

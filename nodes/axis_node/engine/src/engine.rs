@@ -390,17 +390,35 @@ impl AxisEngine {
     // ------------------------------------------------------------------ MC_Power
 
     pub(crate) fn power(&mut self, ax: usize, c: Power) -> Result<AxisReply, Rejection> {
+        // The axis' one MC_Power instance: the same id on every call (read with ReadFbOutputs).
+        let id = match self.axes[ax].power_id {
+            Some(id) => id,
+            None => {
+                let id = self.fbs.untracked_id();
+                self.axes[ax].power_id = Some(id);
+                id
+            }
+        };
         let a = &mut self.axes[ax];
-        finite(&a.name, "MC_Power", "Override", c.override_percent)?;
-        if !(0.0..=100.0).contains(&c.override_percent) {
-            return Err(not_correct(
-                &a.name,
-                "MC_Power",
-                "Override",
-                c.override_percent,
-                "must be in [0, 100]",
-            ));
+        let checked = finite(&a.name, "MC_Power", "Override", c.override_percent).and_then(|_| {
+            if (0.0..=100.0).contains(&c.override_percent) {
+                Ok(())
+            } else {
+                Err(not_correct(
+                    &a.name,
+                    "MC_Power",
+                    "Override",
+                    c.override_percent,
+                    "must be in [0, 100]",
+                ))
+            }
+        });
+        if let Err(e) = checked {
+            // Error/ErrorID of the instance; the previous override stays in force (§4.1).
+            a.power_error = e.error_id;
+            return Err(e);
         }
+        a.power_error = ErrorId::NONE;
         let fbs = &mut self.fbs;
         // Enable edges (§4.1).
         if c.enable && !a.enable {
@@ -453,7 +471,11 @@ impl AxisEngine {
         }
         // The reply carries MC_Power.Status at this call (TRUE one cycle after Enable↑).
         let status = self.axes[ax].status;
-        Ok(self.untracked(ReplyValue::Bool(status)))
+        Ok(AxisReply {
+            id,
+            value: ReplyValue::Bool(status),
+            tracked: false,
+        })
     }
 
     // ------------------------------------------------------------------ MC_Reset
@@ -1903,7 +1925,36 @@ impl AxisEngine {
         self.fbs.probes.get(&id).copied()
     }
 
+    /// The outputs of an axis' MC_Power instance (Enable-type, §4.1).
+    fn power_instance_outputs(&self, id: CmdId) -> Option<InstanceOutputs> {
+        let a = self.axes.iter().find(|a| a.power_id == Some(id))?;
+        let error = !a.power_error.is_none();
+        let mut outputs = FbOutputs::default();
+        outputs.standard.busy = a.enable;
+        outputs.standard.active = a.enable && a.controller_on;
+        outputs.standard.error = error;
+        outputs.standard.error_id = a.power_error;
+        Some(InstanceOutputs {
+            axis: a.name.clone(),
+            kind: FbKind::Power,
+            outputs,
+            superimposed: None,
+            probe: None,
+            extra: Some(ExtraOutputs::Power {
+                status: a.status,
+                valid: a.enable && !error,
+            }),
+        })
+    }
+
     fn read_fb_outputs(&mut self, id: CmdId) -> Result<AxisReply, Rejection> {
+        if let Some(outputs) = self.power_instance_outputs(id) {
+            return Ok(AxisReply {
+                id,
+                value: ReplyValue::Outputs(Box::new(outputs)),
+                tracked: false,
+            });
+        }
         let (axis, kind) = self
             .instance(id)
             .map(|(a, k)| (a.to_string(), k))

@@ -14,6 +14,8 @@ use std::collections::HashMap;
 /// Which FB an instance belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum FbKind {
+    /// MC_Power (Enable-type; one instance per axis, read with its command id).
+    Power,
     /// MC_Reset.
     Reset,
     /// MC_MoveAbsolute.
@@ -101,6 +103,7 @@ impl FbKind {
     /// The manual's FB name (`MC_` + the variant).
     pub fn fb_name(self) -> &'static str {
         match self {
+            FbKind::Power => "MC_Power",
             FbKind::Reset => "MC_Reset",
             FbKind::MoveAbsolute => "MC_MoveAbsolute",
             FbKind::MoveRelative => "MC_MoveRelative",

@@ -51,7 +51,7 @@ impl Axis {
         self.act_pos - self.coord_offset
     }
 
-    fn virtual_cam(&self, raw: f64) -> bool {
+    pub(crate) fn virtual_cam(&self, raw: f64) -> bool {
         self.cfg
             .home_cam
             .is_some_and(|[lo, hi]| raw >= lo && raw <= hi)

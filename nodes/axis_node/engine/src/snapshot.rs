@@ -132,6 +132,10 @@ pub struct AxisStatus {
     pub homing_state: u32,
     /// Raw machine position (before MC_SetPosition/homing offsets) \[u\] (§1.5 diagnostics).
     pub raw_pos: f64,
+    /// Raw machine actual position \[u\] (§1.5 diagnostics; the virtual cam's coordinate).
+    pub raw_act_pos: f64,
+    /// Level of the virtual homing cam (`sim.home_cam`) at the raw actual position (§1.5).
+    pub home_cam: bool,
     /// Accumulated MC_SetPosition offset (AxisMcSetPositionOffset, 2003) \[u\].
     pub set_position_offset: f64,
     /// SetTorque (= ActTorque) \[%\] (MC_TorqueControl).

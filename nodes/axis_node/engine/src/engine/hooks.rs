@@ -40,6 +40,14 @@ pub(crate) struct CouplingExt {
 /// Outputs of the added FBs beyond the standard ones ([`InstanceOutputs::extra`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ExtraOutputs {
+    /// MC_Power: Status (axis ready for operation) and Valid (outputs valid: called with
+    /// Enable and no FB error).
+    Power {
+        /// Status.
+        status: bool,
+        /// Valid.
+        valid: bool,
+    },
     /// MC_PhasingAbsolute.AbsolutePhaseShift / MC_PhasingRelative.CoveredPhaseShift \[u\].
     Phasing {
         /// AbsolutePhaseShift (MC_PhasingAbsolute).
