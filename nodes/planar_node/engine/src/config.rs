@@ -26,14 +26,23 @@ use motion_core::{ErrorId, Rejection};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashSet};
 
-/// First OID given to movers configured without one.
-pub const AUTO_MOVER_OID: u32 = 0x0102_0000;
-/// First OID given to groups configured without one.
-pub const AUTO_GROUP_OID: u32 = 0x0103_0000;
-/// OID of the environment when none is configured.
-pub const AUTO_ENVIRONMENT_OID: u32 = 0x0104_0001;
-/// First OID given to tracks configured without one.
-pub const AUTO_TRACK_OID: u32 = 0x0105_0000;
+// Automatic OIDs (proposal; xplanar.md §1 leaves them open). Objects configured without an
+// `oid` get one from a block that no configured OID may use, so they never clash with the
+// TwinCAT object ids users copy from their projects (0x01xxxxxx): 0xFE00_0000 | class << 16 |
+// n, with n = 1-based position in the config list and the class of MC object below.
+
+/// Configured OIDs must stay outside this block (`0xFE000000..=0xFEFFFFFF`).
+pub const AUTO_OID_BLOCK: std::ops::RangeInclusive<u32> = 0xFE00_0000..=0xFEFF_FFFF;
+/// Movers configured without an OID: `0xFE020001`, `0xFE020002`, …
+pub const AUTO_MOVER_OID: u32 = 0xFE02_0000;
+/// Groups configured without an OID: `0xFE030001`, …
+pub const AUTO_GROUP_OID: u32 = 0xFE03_0000;
+/// The environment without a configured OID: `0xFE040001`.
+pub const AUTO_ENVIRONMENT_OID: u32 = 0xFE04_0001;
+/// Tracks configured without an OID: `0xFE050001`, …
+pub const AUTO_TRACK_OID: u32 = 0xFE05_0000;
+/// Virtual master axes configured without an OID: `0xFE060001`, …
+pub const AUTO_AXIS_OID: u32 = 0xFE06_0000;
 
 fn d_cycle() -> f64 {
     0.001
@@ -320,9 +329,6 @@ pub struct GroupConfig {
     #[serde(default)]
     pub oid: u32,
 }
-
-/// First OID given to virtual axes configured without one.
-pub const AUTO_AXIS_OID: u32 = 0x0106_0000;
 
 /// `axes:` entry: a virtual master axis (§5.8.4).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -647,6 +653,53 @@ impl PlanarConfig {
         non_negative("part_move_time", self.part_move_time)?;
         if self.esg_timeout_cycles == 0 {
             return Err(bad("esg_timeout_cycles", 0, "must be >= 1"));
+        }
+        // A configured OID inside the automatic block could clash with an automatic one.
+        let configured = std::iter::once(("environment.oid".to_string(), self.environment.oid))
+            .chain(
+                self.coordinate_systems
+                    .iter()
+                    .enumerate()
+                    .map(|(i, o)| (format!("coordinate_systems[{i}]"), *o)),
+            )
+            .chain(
+                self.parts
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| (format!("parts[{i}].oid"), p.oid)),
+            )
+            .chain(
+                self.movers
+                    .iter()
+                    .enumerate()
+                    .map(|(i, m)| (format!("movers[{i}].oid"), m.oid)),
+            )
+            .chain(
+                self.groups
+                    .iter()
+                    .enumerate()
+                    .map(|(i, g)| (format!("groups[{i}].oid"), g.oid)),
+            )
+            .chain(
+                self.tracks
+                    .iter()
+                    .enumerate()
+                    .map(|(i, t)| (format!("tracks[{i}].oid"), t.oid)),
+            )
+            .chain(
+                self.axes
+                    .iter()
+                    .enumerate()
+                    .map(|(i, a)| (format!("axes[{i}].oid"), a.oid)),
+            );
+        for (key, oid) in configured {
+            if AUTO_OID_BLOCK.contains(&oid) {
+                return Err(bad(
+                    &key,
+                    format!("0x{oid:08X}"),
+                    "0xFE000000..0xFEFFFFFF is reserved for automatic OIDs",
+                ));
+            }
         }
         let mut oids: HashSet<u32> = HashSet::new();
         let mut uniq = |key: &str, oid: u32| -> Result<(), Rejection> {

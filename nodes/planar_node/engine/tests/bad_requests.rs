@@ -3,6 +3,7 @@
 
 mod common;
 use common::*;
+use motion_core::Engine as _;
 use motion_core::ErrorId;
 use planar_engine::*;
 
@@ -336,4 +337,70 @@ fn config_denies_unknown_keys() {
     ))
     .unwrap();
     assert_eq!((p.x, p.y, p.c), (1.0, 0.0, 2.0));
+}
+
+/// Issue 15.5: automatic OIDs come from a reserved block (0xFE000000..0xFEFFFFFF) that
+/// configured OIDs may not use, so a user OID such as 0x01040001 (the old automatic
+/// environment OID) no longer clashes; every automatic OID can be set in the config instead.
+#[test]
+fn automatic_oids_never_clash_with_configured_ones() {
+    let mut c = PlanarConfig {
+        movers: vec![
+            MoverConfig::new("A", 0.0, 0.0, 0.0),
+            MoverConfig::new("B", 480.0, 0.0, 0.0),
+        ],
+        groups: vec![GroupConfig {
+            name: "G".into(),
+            oid: 0,
+        }],
+        tracks: vec![TrackConfig::new("T")],
+        axes: vec![VirtualAxisConfig {
+            name: "X".into(),
+            oid: 0,
+        }],
+        ..Default::default()
+    };
+    c.movers[1].oid = 0x0104_0001;
+    let e = PlanarEngine::new(c.clone()).expect("a user OID 0x01040001 is accepted");
+    let s = e.snapshot();
+    assert_eq!(s.environment.oid, 0xFE04_0001);
+    assert_eq!(s.movers[0].oid, 0xFE02_0001);
+    assert_eq!(s.movers[1].oid, 0x0104_0001);
+    assert_eq!(s.groups[0].oid, 0xFE03_0001);
+    assert_eq!(s.tracks[0].oid, 0xFE05_0001);
+    assert_eq!(s.axes[0].oid, 0xFE06_0001);
+    // Every one of them can be configured.
+    let mut d = c.clone();
+    d.environment.oid = 0x0101_0001;
+    d.movers[0].oid = 0x0101_0101;
+    d.groups[0].oid = 0x0101_0201;
+    d.tracks[0].oid = 0x0101_0301;
+    d.axes[0].oid = 0x0101_0401;
+    let s = PlanarEngine::new(d).unwrap().snapshot();
+    assert_eq!(
+        (
+            s.environment.oid,
+            s.movers[0].oid,
+            s.groups[0].oid,
+            s.tracks[0].oid,
+            s.axes[0].oid
+        ),
+        (
+            0x0101_0001,
+            0x0101_0101,
+            0x0101_0201,
+            0x0101_0301,
+            0x0101_0401
+        )
+    );
+    // The reserved block is refused with the key.
+    let mut r = c;
+    r.tracks[0].oid = 0xFE02_0001;
+    let e = PlanarEngine::new(r).err().expect("reserved OID accepted");
+    assert_eq!(e.error_id, ErrorId::VALUE_OUT_OF_RANGE);
+    assert!(
+        e.message.contains("tracks[0].oid") && e.message.contains("reserved"),
+        "{}",
+        e.message
+    );
 }
