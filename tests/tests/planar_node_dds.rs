@@ -15,6 +15,7 @@ use motion_msgs::srv::{
     MoverMoveCResponse,
 };
 use motion_msgs::srv::{MoverMoveToPositionRequest, MoverMoveToPositionResponse};
+use motion_msgs::srv::{MoverReset, MoverResetRequest, MoverResetResponse};
 use motion_msgs::srv::{PlanarInjectError, PlanarInjectErrorRequest, PlanarInjectErrorResponse};
 use planar_engine::errors::{E_COLLISION, E_INVALID_STATE, E_OBJECT_ERROR};
 use planar_node::PlanarNode;
@@ -287,28 +288,10 @@ async fn scenario(mapping: ServiceMapping) {
         result.y
     );
 
-    // A move onto the standing m2 is refused with E_COLLISION and objectInfo {Mover (302),
-    // m2's OID} (xplanar.md §6.1), in the service response and in the action result.
-    let r = within(
-        5.0,
-        "move onto m2",
-        mv.async_call_service(MoverMoveToPositionRequest {
-            mover: "m1".into(),
-            x: 600.0,
-            y: 360.0,
-            use_orientation: true,
-            ..Default::default()
-        }),
-    )
-    .await
-    .unwrap();
-    assert!(!r.accepted);
-    assert_eq!(r.error_id, E_COLLISION.0, "{}", r.message);
-    assert_eq!(
-        (r.object_type, r.object_id),
-        (302, s.movers[1].oid),
-        "{r:?}"
-    );
+    // Outside a group there are no collision checks (§3.2; issue 15.2): a move onto the
+    // standing m2 is accepted and ends in a crash at the contact. The goal aborts with
+    // E_COLLISION and objectInfo {Mover (302), m2's OID} (xplanar.md §6.1); both movers are
+    // in Error, each naming the other.
     let goal = MoverMoveToPositionGoal {
         mover: "m1".into(),
         x: 600.0,
@@ -316,7 +299,8 @@ async fn scenario(mapping: ServiceMapping) {
         use_orientation: true,
         ..Default::default()
     };
-    let (gid, _) = send_goal(&ac, "send colliding goal", goal).await;
+    let (gid, resp) = send_goal(&ac, "send colliding goal", goal).await;
+    assert!(resp.accepted);
     let (status, result) = within(20.0, "colliding goal result", ac.async_request_result(gid))
         .await
         .unwrap();
@@ -326,6 +310,48 @@ async fn scenario(mapping: ServiceMapping) {
         (result.object_type, result.object_id),
         (302, s.movers[1].oid)
     );
+    let crashed = wait_state(&states, 20.0, "both movers in Error", |s| {
+        s.movers
+            .iter()
+            .all(|m| m.state == PlanarMoverState::STATE_ERROR)
+    })
+    .await;
+    for (k, other) in [(0, 1), (1, 0)] {
+        let m = &crashed.movers[k];
+        assert_eq!(m.error_id, E_COLLISION.0, "{}", m.name);
+        assert_eq!(m.object_id, crashed.movers[other].oid, "{}", m.name);
+    }
+    let reset = c
+        .client::<MoverResetRequest, MoverResetResponse>(
+            "/planar_node/mover_reset",
+            MoverReset::service_type_name(),
+        )
+        .await;
+    let r = within(
+        5.0,
+        "reset m2",
+        reset.async_call_service(MoverResetRequest { mover: "m2".into() }),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "{}", r.message);
+    wait_state(&states, 20.0, "m2 reset to Disabled", |s| {
+        s.movers[1].state == PlanarMoverState::STATE_DISABLED
+    })
+    .await;
+    // The crash switched m2 off (reaction Abort): enable it again.
+    let r = within(
+        5.0,
+        "enable m2",
+        enable.async_call_service(MoverEnableRequest { mover: "m2".into() }),
+    )
+    .await
+    .unwrap();
+    assert!(r.accepted, "enable m2: {}", r.message);
+    wait_state(&states, 20.0, "m2 Enabled", |s| {
+        s.movers[1].state == PlanarMoverState::STATE_ENABLED
+    })
+    .await;
 
     // The fault-injection hook (xplanar.md §6.2): m2 goes to Error with E_OBJECT_ERROR; a
     // wrong object kind is an enum error.

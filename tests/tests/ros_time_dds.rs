@@ -122,3 +122,91 @@ async fn use_sim_time_follows_an_external_clock() {
     })
     .await;
 }
+
+/// Lockstep (issue 15.9): `~/step{cycles: n}` publishes the state of every cycle it ran on
+/// the state topics (`state_publish_every_n_cycles`, lockstep default 1), none left out and
+/// in order, so a client needing every cycle steps many at once; a node with n = 10 publishes
+/// every tenth cycle.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn lockstep_publishes_every_cycle_of_a_step() {
+    use motion_msgs::srv::{StepCycles, StepCyclesRequest, StepCyclesResponse};
+    require_netns();
+    for every in [None, Some(10u32)] {
+        let domain = unique_domain();
+        let cfg: serde_yaml::Value = serde_yaml::from_str(CONFIG).unwrap();
+        let mut c = common("axis_node", true, ServiceMapping::Cyclone);
+        c.state_publish_every_n_cycles = every;
+        let n = u64::from(every.unwrap_or(1));
+        let node = axis_node::start(&c, cfg, "test", domain).expect("axis node");
+        let mut client = ClientNode::new(domain, "stream_client", ServiceMapping::Cyclone);
+        // A client that needs every cycle reads with keep-all (the state topics' own writer
+        // keeps every sample until it is acknowledged).
+        let keep_all =
+            motion_runtime::shell::topic_qos().history(ros2_client::qos::History::KeepAll);
+        let topic = client
+            .node
+            .create_topic(
+                &ClientNode::name("/axis_node/axis_states"),
+                AxisStateArray::type_name(),
+                &keep_all,
+            )
+            .unwrap();
+        let states = client
+            .node
+            .create_subscription::<AxisStateArray>(&topic, Some(keep_all))
+            .unwrap();
+        let step = client
+            .client::<StepCyclesRequest, StepCyclesResponse>(
+                "/axis_node/step",
+                StepCycles::service_type_name(),
+            )
+            .await;
+        let cycle_of = |s: &AxisStateArray| ns(&s.stamp) / 1_000_000;
+        // Step until the subscription is matched and a state arrives.
+        let mut last = within(20.0, "first state", async {
+            loop {
+                let r = step
+                    .async_send_request(StepCyclesRequest { cycles: n as u32 })
+                    .await;
+                assert!(r.is_ok());
+                tokio::time::sleep(Duration::from_millis(50)).await;
+                let mut got = None;
+                while let Ok(Some((s, _))) = states.take() {
+                    got = Some(cycle_of(&s));
+                }
+                if let Some(c) = got {
+                    return c;
+                }
+            }
+        })
+        .await;
+        // Drain what the matching steps still send, then one step of 200 × n cycles.
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        while let Ok(Some((s, _))) = states.take() {
+            last = cycle_of(&s);
+        }
+        let req = step
+            .async_send_request(StepCyclesRequest {
+                cycles: 200 * n as u32,
+            })
+            .await
+            .expect("step request");
+        let r = within(20.0, "step reply", step.async_receive_response(req))
+            .await
+            .expect("step reply");
+        assert!(r.accepted, "{}", r.message);
+        let end = r.cycle_index as i64;
+        let mut seen = Vec::new();
+        within(20.0, "every streamed cycle of the step", async {
+            while seen.last().copied() != Some(end) {
+                let (s, _) = states.async_take().await.expect("state");
+                seen.push(cycle_of(&s));
+            }
+        })
+        .await;
+        let expected: Vec<i64> = (1..=200).map(|k| last + k * n as i64).collect();
+        assert_eq!(seen, expected, "every {n}th cycle, none left out");
+        drop(client);
+        node.stop().await;
+    }
+}

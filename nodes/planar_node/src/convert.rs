@@ -88,6 +88,8 @@ pub fn mover_state(m: &MoverSnapshot) -> PlanarMoverState {
         part_oid: m.part_oid,
         coordinate_system_oid: m.coordinate_system_oid,
         error_id: m.error_id.0,
+        object_type: m.object_info.object_type as u16,
+        object_id: m.object_info.id,
         error_reaction: m.error_reaction as u8,
         warning_id: m.warning_id.0,
         external_setpoint_mode: m.external_setpoint_mode as u8,

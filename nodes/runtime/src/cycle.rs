@@ -48,6 +48,10 @@ pub struct CycleConfig {
     /// Real time: busy-wait this long before each deadline instead of sleeping [s]
     /// (default 0: sleep only). Lowers jitter to below the kernel's wake-up latency.
     pub spin: f64,
+    /// Lockstep: every this many cycles (and at cycle 0) a snapshot goes to the state stream
+    /// ([`ControllerHandle::take_state_stream`]), none dropped: the cycle waits while the
+    /// stream is full. 0 = no stream.
+    pub stream_every: u32,
 }
 
 impl Default for CycleConfig {
@@ -59,6 +63,7 @@ impl Default for CycleConfig {
             queue_capacity: 256,
             snapshot_every: 10,
             spin: 0.0,
+            stream_every: 0,
         }
     }
 }
@@ -134,7 +139,14 @@ pub struct ControllerHandle<E: Engine> {
     stop: Arc<AtomicBool>,
     labels: Arc<CommandRegistry>,
     clock: Arc<RosClock>,
+    stream: Arc<Mutex<Option<StateStream<E>>>>,
 }
+
+/// The lossless stream of lockstep snapshots (see [`CycleConfig::stream_every`]).
+pub type StateStream<E> = tmpsc::Receiver<Arc<Stamped<<E as Engine>::Snapshot>>>;
+
+/// Snapshots in flight on the state stream before the cycle waits.
+const STREAM_CAPACITY: usize = 16;
 
 impl<E: Engine> Clone for ControllerHandle<E> {
     fn clone(&self) -> Self {
@@ -149,6 +161,7 @@ impl<E: Engine> Clone for ControllerHandle<E> {
             stop: self.stop.clone(),
             labels: self.labels.clone(),
             clock: self.clock.clone(),
+            stream: self.stream.clone(),
         }
     }
 }
@@ -212,6 +225,15 @@ impl<E: Engine> Controller<E> {
             ros_time_ns: clock.at(0.0),
             state: engine.snapshot(),
         });
+        let (stream_tx, stream_rx) =
+            if config.stream_every > 0 && config.mode == ClockMode::Lockstep {
+                let (tx, rx) = tmpsc::channel(STREAM_CAPACITY);
+                // The first state is cycle 0's.
+                let _ = tx.try_send(first.clone());
+                (Some(tx), Some(rx))
+            } else {
+                (None, None)
+            };
         let (snap_tx, snapshots) = watch::channel(first);
         let (all_tx, all_rx) = tmpsc::unbounded_channel();
         let stats = Arc::new(Mutex::new(CycleStats::new(
@@ -248,6 +270,7 @@ impl<E: Engine> Controller<E> {
             failsafe,
             clock: clock.clone(),
             held: None,
+            stream: stream_tx,
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
@@ -268,6 +291,7 @@ impl<E: Engine> Controller<E> {
             stop,
             labels,
             clock,
+            stream: Arc::new(Mutex::new(stream_rx)),
         };
         Ok((
             Controller {
@@ -455,6 +479,12 @@ impl<E: Engine> ControllerHandle<E> {
         Ok(())
     }
 
+    /// The lossless lockstep state stream (see [`CycleConfig::stream_every`]); the first
+    /// caller gets it, later ones `None`. Read it without pause: the cycle waits for it.
+    pub fn take_state_stream(&self) -> Option<StateStream<E>> {
+        self.stream.lock().unwrap_or_else(|e| e.into_inner()).take()
+    }
+
     /// The latest snapshot.
     pub fn snapshot(&self) -> Arc<Stamped<E::Snapshot>> {
         self.snapshots.borrow().clone()
@@ -530,6 +560,9 @@ struct CycleThread<E: Engine> {
     /// Lockstep: a custom cycle taken from the queue between steps; it runs at the next step,
     /// and requests behind it wait for that step too (order of arrival).
     held: Option<CustomStep<E>>,
+    /// The lossless state stream (lockstep with `stream_every` > 0); dropped when its reader
+    /// is gone.
+    stream: Option<tmpsc::Sender<Arc<Stamped<E::Snapshot>>>>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -645,6 +678,7 @@ impl<E: Engine> CycleThread<E> {
             let t0 = Instant::now();
             self.cycle_once();
             self.recorder.record(t0.elapsed(), Duration::ZERO, false);
+            self.stream_if_due();
             match pending.front_mut() {
                 Some(front) => {
                     front.0 -= 1;
@@ -735,6 +769,24 @@ impl<E: Engine> CycleThread<E> {
             .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
         {
             self.take_snapshot();
+        }
+    }
+
+    /// Lockstep: every `stream_every`-th cycle's snapshot to the state stream, waiting while
+    /// it is full (simulated time waits for its observers; nothing is dropped).
+    fn stream_if_due(&mut self) {
+        let n = u64::from(self.config.stream_every);
+        if self.stream.is_none() || n == 0 || !self.cycle.is_multiple_of(n) {
+            return;
+        }
+        if self.snap_tx.borrow().cycle != self.cycle {
+            self.take_snapshot();
+        }
+        let snap = self.snap_tx.borrow().clone();
+        let sent = self.stream.as_ref().map(|tx| tx.blocking_send(snap));
+        if let Some(Err(_)) = sent {
+            // Nobody reads the stream any more (the node is stopping).
+            self.stream = None;
         }
     }
 

@@ -43,6 +43,11 @@ pub struct CommonConfig {
     pub tf_parent: String,
     /// Pose of the node's frame in `tf_parent`: x, y, z [m], roll, pitch, yaw [rad] (default 0).
     pub tf_pose: [f64; 6],
+    /// Simulated time only (lockstep, use_sim_time): the state topics publish the state of
+    /// every n-th cycle, none left out, from cycle 0 on, instead of `state_rate` (default 1 in
+    /// lockstep, off with use_sim_time; 0 = off). The cycle waits for slow publishers, never
+    /// the other way round. Not available in real time (refused).
+    pub state_publish_every_n_cycles: Option<u32>,
 }
 
 impl Default for CommonConfig {
@@ -60,6 +65,7 @@ impl Default for CommonConfig {
             result_timeout: 900.0,
             tf_parent: "world".into(),
             tf_pose: [0.0; 6],
+            state_publish_every_n_cycles: None,
         }
     }
 }
@@ -79,6 +85,7 @@ pub const COMMON_KEYS: &[&str] = &[
     "result_timeout",
     "tf_parent",
     "tf_pose",
+    "state_publish_every_n_cycles",
 ];
 
 /// A configuration error: where (file, key) and what is wrong.
@@ -128,6 +135,17 @@ impl CommonConfig {
             return Err(bad(
                 "state_rate",
                 format!("{} Hz is outside (0, 1000] Hz", self.state_rate),
+            ));
+        }
+        if self.state_publish_every_n_cycles.is_some_and(|n| n > 0)
+            && !self.lockstep
+            && !self.use_sim_time
+        {
+            return Err(bad(
+                "state_publish_every_n_cycles",
+                "needs simulated time (lockstep or use_sim_time); in real time the state topics \
+                 publish at state_rate"
+                    .to_string(),
             ));
         }
         if self.queue_capacity == 0 || self.queue_capacity > 100_000 {
@@ -189,6 +207,16 @@ impl CommonConfig {
             snapshot_every: ((1.0 / self.state_rate / self.cycle_period).floor() as u32).max(1),
             // Never spin for more than half a period.
             spin: self.spin.min(self.cycle_period / 2.0),
+            stream_every: self.stream_every(),
+        }
+    }
+
+    /// Every how many cycles the state topics publish in simulated time (0: at `state_rate`).
+    pub fn stream_every(&self) -> u32 {
+        match self.state_publish_every_n_cycles {
+            Some(n) => n,
+            None if self.lockstep => 1,
+            None => 0,
         }
     }
 
@@ -204,6 +232,7 @@ impl CommonConfig {
             tf_parent: self.tf_parent.clone(),
             tf_pose: self.tf_pose,
             result_timeout: std::time::Duration::from_secs_f64(self.result_timeout),
+            state_stream: self.stream_every() > 0,
         })
     }
 
@@ -215,6 +244,10 @@ impl CommonConfig {
                 ParameterValue::Double(self.cycle_period),
             ),
             ("state_rate".into(), ParameterValue::Double(self.state_rate)),
+            (
+                "state_publish_every_n_cycles".into(),
+                ParameterValue::Integer(i64::from(self.stream_every())),
+            ),
             ("lockstep".into(), ParameterValue::Boolean(self.lockstep)),
             (
                 "use_sim_time".into(),
@@ -251,6 +284,9 @@ pub fn parameter_description(name: &str) -> &'static str {
     match name {
         "cycle_period" => "cycle period of the node's controller [s] (launch config)",
         "state_rate" => "rate of the state topics [Hz] (launch config)",
+        "state_publish_every_n_cycles" => {
+            "simulated time: the state topics carry every n-th cycle from cycle 0 (0 = at state_rate)"
+        }
         "lockstep" => "simulated time: cycles run on ~/step, the node publishes /clock",
         "service_mapping" => {
             "request/reply mapping of the node's services: auto (from RMW_IMPLEMENTATION), cyclone, enhanced, basic"

@@ -441,6 +441,16 @@ mod tests {
                 "outside",
             ),
             (
+                "nodes:\n  - kind: axis_node\n    state_publish_every_n_cycles: 5\n",
+                "state_publish_every_n_cycles",
+                "needs simulated time",
+            ),
+            (
+                "nodes:\n  - kind: axis_node\n    state_publish_every_n_cycles: -1\n",
+                "state_publish_every_n_cycles",
+                "",
+            ),
+            (
                 "nodes:\n  - kind: axis_node\n    service_mapping: zenoh\n",
                 "service_mapping",
                 "not one of",

@@ -131,6 +131,9 @@ pub struct ShellSettings {
     pub tf_pose: [f64; 6],
     /// How long an action keeps an ended goal's result for a client that has not asked yet.
     pub result_timeout: Duration,
+    /// Simulated time: the state topics publish every snapshot of the cycle's lossless state
+    /// stream (`state_publish_every_n_cycles`) instead of sampling at `state_rate`.
+    pub state_stream: bool,
 }
 
 /// Names of the command behind a [`CmdId`], for `~/command_status`.
@@ -183,7 +186,12 @@ pub struct NodeShell<E: Engine> {
     spinner: Option<JoinHandle<()>>,
     /// Copies of the command events with their labels (see [`NodeShell::command_event_tap`]).
     taps: Vec<tokio::sync::mpsc::UnboundedSender<(CommandEvent, CommandLabel)>>,
+    /// The state publishers' inputs in stream mode (fed by [`NodeShell::start_common`]).
+    streams: Vec<StreamSender<E>>,
 }
+
+/// One state publisher's input of stream snapshots.
+type StreamSender<E> = tokio::sync::mpsc::Sender<Arc<Stamped<<E as Engine>::Snapshot>>>;
 
 /// The answer of a command service (README "ROS API rules"): accepted with the command id, or
 /// rejected with the error id and message; `id` reads the command id from the engine's reply.
@@ -354,6 +362,7 @@ where
             tasks,
             spinner: None,
             taps: Vec::new(),
+            streams: Vec::new(),
         })
     }
 
@@ -371,6 +380,7 @@ where
         }));
         self.spawn_command_status(events)?;
         self.spawn_diagnostics()?;
+        self.spawn_state_stream();
         if std::env::var("MOTION_FAULT_HOOKS").as_deref() == Ok("1") {
             self.spawn_fault_hook()?;
         }
@@ -381,6 +391,25 @@ where
             self.spawn_step_service()?;
         }
         Ok(())
+    }
+
+    /// Stream mode: hands every snapshot of the cycle's state stream to each state publisher,
+    /// in order (a slow publisher holds the stream, and so the lockstep cycle, back).
+    fn spawn_state_stream(&mut self) {
+        if !self.settings.state_stream {
+            return;
+        }
+        let Some(mut rx) = self.handle.take_state_stream() else {
+            return;
+        };
+        let outs = std::mem::take(&mut self.streams);
+        self.tasks.spawn(async move {
+            while let Some(snap) = rx.recv().await {
+                for o in &outs {
+                    let _ = o.send(snap.clone()).await;
+                }
+            }
+        });
     }
 
     /// A copy of every command event, with its label, in the order `~/command_status`
@@ -906,6 +935,19 @@ where
             .node
             .create_publisher::<M>(&t, None)
             .map_err(err("publisher"))?;
+        if self.settings.state_stream {
+            // Every streamed cycle, in order (see `spawn_state_stream`).
+            let (tx, mut rx) = tokio::sync::mpsc::channel::<Arc<Stamped<E::Snapshot>>>(4);
+            self.streams.push(tx);
+            self.tasks.spawn(async move {
+                while let Some(snap) = rx.recv().await {
+                    if let Err(e) = publisher.async_publish(build(&snap)).await {
+                        tracing::warn!("state publish failed: {e:?}");
+                    }
+                }
+            });
+            return Ok(());
+        }
         let handle = self.handle.clone();
         let period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(0.1));
         self.tasks.spawn(async move {

@@ -90,6 +90,7 @@ fn lockstep(period: f64, queue: usize) -> CycleConfig {
         queue_capacity: queue,
         snapshot_every: 1,
         spin: 0.0,
+        stream_every: 0,
     }
 }
 
@@ -216,6 +217,7 @@ fn realtime_keeps_the_schedule_without_drift() {
         queue_capacity: 8,
         snapshot_every: 1,
         spin: 0.0,
+        stream_every: 0,
     };
     let (ctl, _e) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
     let h = ctl.handle();
@@ -420,5 +422,42 @@ fn lockstep_admits_commands_between_steps_and_applies_them_at_the_next_step() {
         // The last admitted velocity (20, in arrival order) for all 100 cycles.
         assert!((h.snapshot().state.0 - 20.0 * 0.2).abs() < 1e-9);
         ctl.shutdown().unwrap();
+    });
+}
+
+/// Lockstep state stream (`state_publish_every_n_cycles`, issue 15.9): every n-th cycle from
+/// cycle 0, none dropped, in order, although one step runs far more cycles than the stream
+/// holds; the cycle waits for the reader.
+#[test]
+fn lockstep_state_stream_carries_every_nth_cycle() {
+    rt().block_on(async {
+        let cfg = CycleConfig {
+            stream_every: 3,
+            ..lockstep(0.001, 8)
+        };
+        let (ctl, _events) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
+        let h = ctl.handle();
+        let mut stream = h.take_state_stream().expect("stream");
+        assert!(h.take_state_stream().is_none(), "one reader");
+        let reader = tokio::spawn(async move {
+            let mut seen = Vec::new();
+            while let Some(s) = stream.recv().await {
+                seen.push((s.cycle, s.sim_time));
+                if s.cycle >= 300 {
+                    break;
+                }
+            }
+            seen
+        });
+        h.submit(Cmd::SetVel(1.0), None).unwrap();
+        assert_eq!(h.step(150).await.unwrap(), 150);
+        assert_eq!(h.step(150).await.unwrap(), 300);
+        let seen = reader.await.unwrap();
+        let cycles: Vec<u64> = seen.iter().map(|s| s.0).collect();
+        assert_eq!(cycles, (0..=300).step_by(3).collect::<Vec<u64>>());
+        assert!(seen
+            .iter()
+            .all(|(c, t)| (*c as f64 * 0.001 - t).abs() < 1e-12));
+        drop(ctl);
     });
 }

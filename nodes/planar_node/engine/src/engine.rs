@@ -482,9 +482,12 @@ impl PlanarEngine {
                 }
             }
         }
+        // Outside a group there are no collision checks (§3.2): the command is accepted, and
+        // a contact on the way is a crash (see `crash`).
+        let grouped = self.movers[i].group.is_some();
         for j in 0..self.movers.len() {
             let o = &self.movers[j];
-            if j == i || o.cs != cs || !o.at_rest() || o.xy_cmd.is_some() {
+            if !grouped || j == i || o.cs != cs || !o.at_rest() || o.xy_cmd.is_some() {
                 continue;
             }
             if swept.intersects(&o.footprint()) {
@@ -1775,8 +1778,26 @@ impl PlanarEngine {
             };
             let env = Self::envelope_of(m, &shown, &c_shown);
             grid.query(m.cs, &env, cand);
+            if m.group.is_none() {
+                // Outside a group the mover has no collision checks (§3.2): it drives on
+                // until its footprint touches another mover's, and both crash there.
+                let next = ConvexPolygon::rect(shown.pos, m.cfg.width, m.cfg.height, c_shown.pos);
+                let hit = cand.iter().map(|&j| j as usize).find(|&j| {
+                    j != i
+                        && self.movers[j].cs == m.cs
+                        && next.intersects(&self.movers[j].footprint())
+                });
+                if let Some(j) = hit {
+                    self.crash(i, j, xy_next.pos, c_next.pos);
+                    return;
+                }
+            }
+            let m = &self.movers[i];
             let blocker = cand.iter().map(|&j| j as usize).find(|&j| {
-                j != i && self.movers[j].cs == m.cs && env.intersects(&self.movers[j].envelope)
+                j != i
+                    && self.movers[j].cs == m.cs
+                    && m.group.is_some()
+                    && env.intersects(&self.movers[j].envelope)
             });
             if let Some(j) = blocker {
                 self.guard_fire(i, j, esg_abs.is_some() || relative);
@@ -1835,6 +1856,57 @@ impl PlanarEngine {
             end(ev_, &mut m.c_cmd, CommandState::Done);
         }
         self.finish_idle(i);
+    }
+
+    /// A crash (proposal, issue 15.2): mover `i`, outside any group, would touch mover `j`
+    /// with its next set point (`xy_next`, `c_next`, internal coordinates). `i` stops at the
+    /// contact (the last pose on the way that does not overlap, found by bisection), and both
+    /// go to Error with E_COLLISION and reaction Abort (set points frozen, power off), each
+    /// with `objectInfo` naming the other. Footprints never overlap.
+    fn crash(&mut self, i: usize, j: usize, xy_next: V2, c_next: f64) {
+        let other = self.movers[j].footprint();
+        let m = &self.movers[i];
+        let (p0, c0) = (m.xy.pos, m.c.pos);
+        let off = V2::new(m.offset.pos.x, m.offset.pos.y);
+        let at = |s: f64| {
+            let p = p0 + (xy_next - p0) * s;
+            let c = c0 + (c_next - c0) * s;
+            (p, c)
+        };
+        let touches = |s: f64| {
+            let (p, c) = at(s);
+            ConvexPolygon::rect(p + off, m.cfg.width, m.cfg.height, c + m.offset.pos.c)
+                .intersects(&other)
+        };
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..40 {
+            let mid = (lo + hi) / 2.0;
+            if touches(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let (p, c) = at(lo);
+        {
+            let m = &mut self.movers[i];
+            m.path = None;
+            m.xy = Kin2::at_rest(p);
+            m.c.pos = c;
+            m.c.freeze();
+        }
+        for (a, b) in [(i, j), (j, i)] {
+            let info = PlanarObjectInfo {
+                object_type: PlanarObjectType::Mover,
+                id: self.movers[b].oid,
+            };
+            self.movers[a].object_info = info;
+            self.mover_error(a, E_COLLISION, ErrorReaction::Abort);
+        }
+        self.last_object_info = PlanarObjectInfo {
+            object_type: PlanarObjectType::Mover,
+            id: self.movers[j].oid,
+        };
     }
 
     /// The guard refuses the next set point of mover `i` because of mover `j`.

@@ -376,6 +376,7 @@ fn runtime_jitter(seconds: f64, spin: f64) {
         queue_capacity: 64,
         snapshot_every: 10,
         spin,
+        stream_every: 0,
     };
     let (ctl, _events) =
         Controller::spawn(Trivial { x: 0.0, next: 0 }, cfg, |r| Some(*r)).expect("controller");
