@@ -532,7 +532,6 @@ impl PlanarEngine {
                 ),
             ));
         }
-        self.check_in_area(&who, cs, p)?;
         let (dxy, red1) = Dynamics::resolve(
             &m.cfg.default_dynamics,
             &m.cfg.max_dynamics,
@@ -1764,6 +1763,15 @@ impl PlanarEngine {
                 None => (m.xy, m.c.peek(dt), false),
             }
         };
+        // Off the stators a mover cannot levitate (see `fall_off`).
+        {
+            let o = V2::new(m.offset.pos.x, m.offset.pos.y);
+            if !self.on_stators(m.cs, xy_next.pos + o) && self.on_stators(m.cs, m.xy.pos + o) {
+                self.fall_off(i, xy_next.pos, c_next.pos);
+                return;
+            }
+        }
+        let m = &self.movers[i];
         if !m.guard_stop {
             let o = &m.offset;
             let shown = Kin2 {
@@ -1858,43 +1866,48 @@ impl PlanarEngine {
         self.finish_idle(i);
     }
 
-    /// A crash (proposal, issue 15.2): mover `i`, outside any group, would touch mover `j`
-    /// with its next set point (`xy_next`, `c_next`, internal coordinates). `i` stops at the
-    /// contact (the last pose on the way that does not overlap, found by bisection), and both
-    /// go to Error with E_COLLISION and reaction Abort (set points frozen, power off), each
-    /// with `objectInfo` naming the other. Footprints never overlap.
-    fn crash(&mut self, i: usize, j: usize, xy_next: V2, c_next: f64) {
-        let other = self.movers[j].footprint();
+    /// Stops mover `i` at the last pose on its way to the next set point (`xy_next`,
+    /// `c_next`, internal coordinates) where `blocked` (centre and C as shown) is still false,
+    /// found by bisection: a physical stop at a contact, never past it.
+    fn stop_at_contact(
+        &mut self,
+        i: usize,
+        xy_next: V2,
+        c_next: f64,
+        blocked: impl Fn(V2, f64) -> bool,
+    ) {
         let m = &self.movers[i];
         let (p0, c0) = (m.xy.pos, m.c.pos);
-        let off = V2::new(m.offset.pos.x, m.offset.pos.y);
-        let at = |s: f64| {
-            let p = p0 + (xy_next - p0) * s;
-            let c = c0 + (c_next - c0) * s;
-            (p, c)
-        };
-        let touches = |s: f64| {
-            let (p, c) = at(s);
-            ConvexPolygon::rect(p + off, m.cfg.width, m.cfg.height, c + m.offset.pos.c)
-                .intersects(&other)
-        };
+        let (off, c_off) = (V2::new(m.offset.pos.x, m.offset.pos.y), m.offset.pos.c);
+        let at = |s: f64| (p0 + (xy_next - p0) * s, c0 + (c_next - c0) * s);
         let (mut lo, mut hi) = (0.0, 1.0);
         for _ in 0..40 {
             let mid = (lo + hi) / 2.0;
-            if touches(mid) {
+            let (p, c) = at(mid);
+            if blocked(p + off, c + c_off) {
                 hi = mid;
             } else {
                 lo = mid;
             }
         }
         let (p, c) = at(lo);
-        {
-            let m = &mut self.movers[i];
-            m.path = None;
-            m.xy = Kin2::at_rest(p);
-            m.c.pos = c;
-            m.c.freeze();
-        }
+        let m = &mut self.movers[i];
+        m.path = None;
+        m.xy = Kin2::at_rest(p);
+        m.c.pos = c;
+        m.c.freeze();
+    }
+
+    /// A crash (proposal, issue 15.2): mover `i`, outside any group, would touch mover `j`
+    /// with its next set point. `i` stops at the contact and both go to Error with
+    /// E_COLLISION and reaction Abort (set points frozen, power off), each with `objectInfo`
+    /// naming the other. Footprints never overlap.
+    fn crash(&mut self, i: usize, j: usize, xy_next: V2, c_next: f64) {
+        let other = self.movers[j].footprint();
+        let (w, h) = (self.movers[i].cfg.width, self.movers[i].cfg.height);
+        self.stop_at_contact(i, xy_next, c_next, |p, c| {
+            ConvexPolygon::rect(p, w, h, c).intersects(&other)
+        });
         for (a, b) in [(i, j), (j, i)] {
             let info = PlanarObjectInfo {
                 object_type: PlanarObjectType::Mover,
@@ -1907,6 +1920,41 @@ impl PlanarEngine {
             object_type: PlanarObjectType::Mover,
             id: self.movers[j].oid,
         };
+    }
+
+    /// True if `p` (coordinate system `cs`) lies above a stator tile; an area without
+    /// stators and parts is unbounded (§1.2). No allocation: runs every cycle.
+    fn on_stators(&self, cs: u32, p: V2) -> bool {
+        if self.parts.is_empty() {
+            return self.env.stators.is_empty()
+                || crate::geometry::tile_containing(&self.env.stators, p).is_some();
+        }
+        self.parts.iter().any(|part| {
+            let (pcs, o) = part.origin();
+            pcs == cs && crate::geometry::tile_containing(&part.tiles, p - o).is_some()
+        })
+    }
+
+    /// Leaving the stator area (proposal, issue 15.3; §1.2, §6.2): a move's target is not
+    /// checked against the area (only a group with the environment checks the boundary, and
+    /// "outside the stator area" is not an E_TARGET_UNREACHABLE condition), but a mover
+    /// levitates only while its centre is above a stator. Where the centre would leave the
+    /// tiles it stops (at the edge) and goes to Error with E_COLLISION, reaction Abort
+    /// (levitation off) and `objectInfo` = the environment (304).
+    fn fall_off(&mut self, i: usize, xy_next: V2, c_next: f64) {
+        let cs = self.movers[i].cs;
+        let tiles = self.area_tiles(cs);
+        let unbounded = self.parts.is_empty() && tiles.is_empty();
+        self.stop_at_contact(i, xy_next, c_next, |p, _| {
+            !unbounded && crate::geometry::tile_containing(&tiles, p).is_none()
+        });
+        let info = PlanarObjectInfo {
+            object_type: PlanarObjectType::Environment,
+            id: self.env.oid,
+        };
+        self.movers[i].object_info = info;
+        self.last_object_info = info;
+        self.mover_error(i, E_COLLISION, ErrorReaction::Abort);
     }
 
     /// The guard refuses the next set point of mover `i` because of mover `j`.

@@ -120,16 +120,6 @@ fn cases() -> Vec<(PlanarCommand, ErrorId, &'static str)> {
             "deceleration",
         ),
         (
-            mv(900.0, 100.0, 0.0, CS, dc),
-            errors::E_TARGET_UNREACHABLE,
-            "900",
-        ),
-        (
-            mv(100.0, -300.0, 0.0, CS, dc),
-            errors::E_TARGET_UNREACHABLE,
-            "-300",
-        ),
-        (
             mv(100.0, 100.0, 0.0, 0x1234_5678, dc),
             errors::E_INVALID_REFERENCE_ID,
             "0x12345678",

@@ -27,9 +27,26 @@ fn w18_stators_and_boundary() {
     assert_eq!(s.snap().environment.stator_count, 4);
     // The area is [0, 480]²: inside reachable, outside not.
     s.enable("M");
-    s.ok(mtp("M", 360.0, 360.0, 0.0));
-    let e = s.err(mtp("M", 500.0, 100.0, 0.0));
-    assert_eq!(e.error_id, errors::E_TARGET_UNREACHABLE);
+    let id = s.ok(mtp("M", 360.0, 360.0, 0.0));
+    assert_eq!(s.wait_final(id, 5.0), motion_core::CommandState::Done);
+    // Off the area (issue 15.3): accepted, nothing checks the boundary outside a group with
+    // the environment; the mover's centre stops at the edge x = 480, where it could no longer
+    // levitate, and it goes to Error with E_COLLISION naming the environment.
+    let id = s.ok(mtp("M", 500.0, 100.0, 0.0));
+    assert_eq!(
+        s.wait_final(id, 5.0),
+        motion_core::CommandState::Error(errors::E_COLLISION)
+    );
+    s.steps(100);
+    let m = s.mover("M");
+    assert!(
+        m.set_pos.x <= 480.0 + 1e-6 && m.set_pos.x > 480.0 - 1e-3,
+        "stopped at x = {}",
+        m.set_pos.x
+    );
+    assert_eq!(m.state, PlanarState::Error);
+    assert_eq!(m.object_info.object_type, PlanarObjectType::Environment);
+    assert_eq!(m.object_info.id, s.snap().environment.oid);
     // Clear removes stators and boundary; CreateBoundary without stators fails.
     s.ok(PlanarCommand::EnvironmentClear);
     assert_eq!(s.snap().environment.stator_count, 0);
