@@ -1,6 +1,8 @@
 """Demo companion: starts motion_launch on a launch config and, as an independent Cyclone DDS
-peer, prints what it sees (state topics, /diagnostics) and drives a little motion on the axes,
-so a newcomer sees the machine working. Ctrl-C (or --duration) stops both.
+peer, prints what it sees (state topics with the manuals' state names, /diagnostics) and
+drives a little motion (axes every 3 s, movers every 5 s, a workpiece on belt 1 every 2 s), so
+a newcomer sees the machine working; --no-driver leaves all motion to the user. Ctrl-C (or
+--duration) stops both.
 
   python3 tests/peer/monitor.py --launch target/release/motion_launch --config launch-configs/demo.yaml
 """
@@ -15,16 +17,41 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import ros2_peer  # noqa: E402
 
+# State names as the manuals spell them (the messages carry the numbers).
+AXIS_STATES = ["Undefined", "Disabled", "Standstill", "ErrorStop", "Stopping", "Homing",
+               "DiscreteMotion", "ContinuousMotion", "SynchronizedMotion"]  # MC_AxisStates
+MOVER_STATES = ["Invalid", "Disabled", "Enabling", "Enabled", "Disabling", "Error",
+                "ErrorPending", "Resetting"]  # MC_PlanarState
+PICKPLACE_STATES = ["DISABLED", "READY", "ERROR", "STOP", "SERVICE", "JOGPOS", "JOGNEG",
+                    "HOMING", "PREPARING_PATH", "MOVE_PP", "PATH_INTERRUPT"]  # eTMState
+
+
+def name_of(names, n):
+    return names[n] if 0 <= n < len(names) else str(n)
+
+
 # (topic, type, how to print one sample)
 TOPICS = [
     ("/axis_node/axis_states", "motion_msgs/msg/AxisStateArray",
-     lambda m: "axes: " + ", ".join(f"{a.name} state {a.motion_state} pos {a.act_pos:9.3f}" for a in m.axes)),
+     lambda m: "axes: " + ", ".join(f"{a.name} {name_of(AXIS_STATES, a.motion_state)} at {a.act_pos:.3f}"
+                                    for a in m.axes)),
     ("/planar_node/state", "motion_msgs/msg/PlanarState",
-     lambda m: "movers: " + ", ".join(f"{v.name} ({v.x:.1f}, {v.y:.1f})" + (f" on {v.track}" if v.track else "")
-                                      for v in m.movers)),
+     lambda m: "movers: " + ", ".join(f"{v.name} {name_of(MOVER_STATES, v.state)} at ({v.x:.1f}, {v.y:.1f})"
+                                      + (f" on {v.track}" if v.track else "") for v in m.movers)),
     ("/pickplace_node/state", "motion_msgs/msg/PickPlaceState",
-     lambda m: f"pick&place: state {m.state} tcp ({m.tcp_x:.1f}, {m.tcp_y:.1f}, {m.tcp_z:.1f}) belts {len(m.belts)}"),
+     lambda m: f"pick&place: {name_of(PICKPLACE_STATES, m.state)}, TCP at ({m.tcp_x:.1f}, {m.tcp_y:.1f}, "
+               f"{m.tcp_z:.1f}), gripper {'closed' if m.gripper_closed else 'open'}, "
+               f"{sum(len(b.workpieces) for b in m.belts)} workpieces on the belts"),
 ]
+
+NEXT_STEPS = """What to try next (README "From the ros2 CLI and rclpy" and the node sections):
+  scripts/demo.sh --host-network --no-driver     nodes on this machine's loopback, no driver:
+                                                 drive them yourself with ros2 / rclpy
+  ros2 service call /axis_node/power motion_msgs/srv/Power "{axis: x, enable: true}"
+  ros2 action send_goal --feedback /axis_node/move_absolute motion_msgs/action/MoveAbsolute \\
+      "{axis: x, position: 100.0, velocity: 500.0}"
+  rviz2 (Fixed Frame world): MarkerArray /planar_node/markers and /pickplace_node/markers
+Ctrl-C stops the machine."""
 
 
 def main():
@@ -32,7 +59,18 @@ def main():
     ap.add_argument("--launch", required=True)
     ap.add_argument("--config", default="launch-configs/demo.yaml")
     ap.add_argument("--duration", type=float, default=None)
+    ap.add_argument("--no-driver", action="store_true",
+                    help="only print: leave the axes, movers and the cell to your own commands")
     args = ap.parse_args()
+    # This peer speaks the Cyclone request/reply mapping; the nodes take theirs from
+    # RMW_IMPLEMENTATION (demo.sh sets rmw_cyclonedds_cpp unless you chose another).
+    rmw = os.environ.setdefault("RMW_IMPLEMENTATION", "rmw_cyclonedds_cpp")
+    if rmw != "rmw_cyclonedds_cpp" and not args.no_driver:
+        print(f"(driver off: the nodes serve {rmw}'s request/reply mapping, this peer speaks "
+              "Cyclone's; it only prints)", flush=True)
+        args.no_driver = True
+    print(NEXT_STEPS if not args.no_driver else
+          "Demo machine without driver: it does only what you command (README).", flush=True)
 
     proc = subprocess.Popen([args.launch, args.config])
     stop = {"now": False}
@@ -44,7 +82,7 @@ def main():
             if ty in peer.types:
                 readers.append((topic, peer.subscribe(topic, ty), fmt))
         diag = peer.subscribe("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray")
-        drivers = [AxisDriver(peer), PlanarDriver(peer), PickPlaceDriver(peer)]
+        drivers = [] if args.no_driver else [AxisDriver(peer), PlanarDriver(peer), PickPlaceDriver(peer)]
         t0 = time.monotonic()
         while not stop["now"] and proc.poll() is None:
             if args.duration is not None and time.monotonic() - t0 > args.duration:

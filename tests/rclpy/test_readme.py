@@ -1,10 +1,12 @@
-"""The README's rclpy example, run as written (the python block under "From the ros2 CLI and
-rclpy") against the demo machine: it must power the axis and end its goal SUCCEEDED at 100."""
+"""The README's examples, run as written against the demo machine: the rclpy example (the
+python block under "From the ros2 CLI and rclpy") must power the axis and end its goal
+SUCCEEDED at 100; every `ros2` CLI line must go through (issue 15.14)."""
 
 import os
 import re
 import subprocess
 import sys
+import time
 
 from conftest import launch
 
@@ -30,3 +32,53 @@ def test_the_readme_rclpy_example_runs_as_written():
     assert "power accepted: True" in out.stdout, out.stdout
     assert "status: 4 position: 100.0" in out.stdout, out.stdout
     assert "at " in out.stdout  # feedback while the axis moved
+
+
+def cli_lines():
+    """Every `ros2 ...` line of the README's shell blocks (a `for` loop counts as one line),
+    in order, with the heading of its section."""
+    with open(os.path.join(ROOT, "README.md")) as f:
+        text = f.read()
+    lines = []
+    for block in re.finditer(r"```\n(.*?)```", text, re.S):
+        heading = re.findall(r"^#+ (.*)$", text[: block.start()], re.M)[-1]
+        for line in block.group(1).splitlines():
+            if line.startswith("ros2 ") or (line.startswith("for ") and " ros2 " in line):
+                lines.append((heading, line))
+    return lines
+
+
+def test_the_readme_ros2_cli_lines_run_as_written(tmp_path):
+    """Every `ros2` line of the README (axis, planar and pick-and-place blocks) against the
+    demo machine, typed one after the other as a user would (0.5 s apart), through a `ros2`
+    that is tests/rclpy/ros2_cli.py (ros2cli has no wheels): each must go through, no
+    service may refuse (accepted=False), every goal must end SUCCEEDED."""
+    lines = cli_lines()
+    for node in ("/axis_node/", "/planar_node/", "/pickplace_node/"):
+        assert any(node in l for _, l in lines), f"the README has no ros2 line for {node}"
+    shim = tmp_path / "ros2"
+    shim.write_text(f"#!/bin/sh\nexec {sys.executable} "
+                    f"{os.path.join(os.path.dirname(os.path.abspath(__file__)), 'ros2_cli.py')} \"$@\"\n")
+    shim.chmod(0o755)
+    env = dict(os.environ, PATH=f"{tmp_path}:{os.environ['PATH']}")
+    with open(os.path.join(ROOT, "launch-configs", "demo.yaml")) as f:
+        demo = launch(f.read())
+    failures = []
+    try:
+        for heading, line in lines:
+            out = subprocess.run(["bash", "-c", line], capture_output=True, text=True,
+                                 timeout=120, env=env)
+            text = out.stdout + out.stderr
+            calls = line.count("ros2 ")
+            if out.returncode != 0:
+                failures.append(f"[{heading}] {line}\n  exit {out.returncode}: {text[-600:]}")
+            elif "accepted=False" in text:
+                failures.append(f"[{heading}] {line}\n  refused: {text[-600:]}")
+            elif " send_goal " in line and text.count("Goal finished with status: SUCCEEDED") != calls:
+                failures.append(f"[{heading}] {line}\n  goal did not succeed: {text[-600:]}")
+            elif " topic echo " in line and "---" not in text:
+                failures.append(f"[{heading}] {line}\n  no message: {text[-600:]}")
+            time.sleep(0.5)
+    finally:
+        demo.stop()
+    assert not failures, "\n".join(failures)

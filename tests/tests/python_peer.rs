@@ -115,6 +115,13 @@ fn cyclonedds_peer_large_messages_over_a_lossy_link() {
     run_peer_test_with("test_large_messages.py", 206, Some(5));
 }
 
+/// Issue 15.14: the demo companion prints state names, what to try next, and drives the
+/// machine unless `--no-driver`.
+#[test]
+fn demo_monitor_names_states_and_can_leave_the_machine_alone() {
+    run_peer_test("test_demo_monitor.py", 208);
+}
+
 /// Issue 12 §6: malformed CDR on a request topic is dropped; the node keeps serving.
 #[test]
 fn cyclonedds_peer_malformed_requests_are_dropped() {
