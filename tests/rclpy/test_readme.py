@@ -34,17 +34,22 @@ def test_the_readme_rclpy_example_runs_as_written():
     assert "at " in out.stdout  # feedback while the axis moved
 
 
+DOCS = [os.path.join("docs", p) for p in ("axis_node.md", "pickplace_node.md", "planar_node.md")]
+
+
 def cli_lines():
-    """Every `ros2 ...` line of the README's shell blocks (a `for` loop counts as one line),
-    in order, with the heading of its section."""
-    with open(os.path.join(ROOT, "README.md")) as f:
-        text = f.read()
+    """Every `ros2 ...` line of the user guide's and the README's shell blocks (a `for` loop
+    counts as one line), in order (guide pages first: the README's last block stops `x`),
+    with the page and heading of its section."""
     lines = []
-    for block in re.finditer(r"```\n(.*?)```", text, re.S):
-        heading = re.findall(r"^#+ (.*)$", text[: block.start()], re.M)[-1]
-        for line in block.group(1).splitlines():
-            if line.startswith("ros2 ") or (line.startswith("for ") and " ros2 " in line):
-                lines.append((heading, line))
+    for page in DOCS + ["README.md"]:
+        with open(os.path.join(ROOT, page)) as f:
+            text = f.read()
+        for block in re.finditer(r"```\n(.*?)```", text, re.S):
+            heading = re.findall(r"^#+ (.*)$", text[: block.start()], re.M)[-1]
+            for line in block.group(1).splitlines():
+                if line.startswith("ros2 ") or (line.startswith("for ") and " ros2 " in line):
+                    lines.append((f"{page}: {heading}", line))
     return lines
 
 
@@ -55,7 +60,7 @@ def test_the_readme_ros2_cli_lines_run_as_written(tmp_path):
     service may refuse (accepted=False), every goal must end SUCCEEDED."""
     lines = cli_lines()
     for node in ("/axis_node/", "/planar_node/", "/pickplace_node/"):
-        assert any(node in l for _, l in lines), f"the README has no ros2 line for {node}"
+        assert any(node in l for _, l in lines), f"no ros2 example line for {node}"
     shim = tmp_path / "ros2"
     shim.write_text(f"#!/bin/sh\nexec {sys.executable} "
                     f"{os.path.join(os.path.dirname(os.path.abspath(__file__)), 'ros2_cli.py')} \"$@\"\n")
@@ -82,3 +87,48 @@ def test_the_readme_ros2_cli_lines_run_as_written(tmp_path):
     finally:
         demo.stop()
     assert not failures, "\n".join(failures)
+
+
+def test_the_guide_names_every_service_action_and_topic(ros):
+    """docs/<node>.md names every service, action and topic each node of the demo offers (the
+    last name component in a code span), so the guide's FB maps are complete (issue 15.13)."""
+    import rclpy  # noqa: F401
+    node, ex = ros
+    with open(os.path.join(ROOT, "launch-configs", "demo.yaml")) as f:
+        demo = launch(f.read())
+    missing = []
+    try:
+        for name in ("axis_node", "planar_node", "pickplace_node"):
+            with open(os.path.join(ROOT, "docs", f"{name}.md")) as f:
+                page = f.read()
+            spans = " ".join(re.findall(r"`([^`]+)`", page))
+            end = time.monotonic() + 30
+            services = []
+            while time.monotonic() < end and len(services) < 5:
+                ex.spin_once(timeout_sec=0.2)
+                try:
+                    services = node.get_service_names_and_types_by_node(name, "/")
+                    topics = node.get_publisher_names_and_types_by_node(name, "/")
+                except Exception:  # not yet discovered
+                    services, topics = [], []
+            assert services, f"{name} not discovered"
+            names = set()
+            for full, _ in services:
+                if "/_action/" in full:
+                    full = full.split("/_action/")[0]
+                names.add(full)
+            for full, _ in topics:
+                if "/_action/" not in full:
+                    names.add(full)
+            for full in sorted(names):
+                last = full.rsplit("/", 1)[-1]
+                if last in ("describe_parameters", "get_parameter_types", "get_parameters",
+                            "list_parameters", "set_parameters", "set_parameters_atomically",
+                            "get_type_description", "rosout", "parameter_events", "clock",
+                            "tf_static", "diagnostics", "joint_states"):
+                    continue  # ROS-wide names, on the README's page
+                if not re.search(r"(^|[/\s~])" + re.escape(last) + r"($|[\s,])", spans):
+                    missing.append(f"{name}: {full}")
+    finally:
+        demo.stop()
+    assert not missing, "not in the guide:\n" + "\n".join(missing)

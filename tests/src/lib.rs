@@ -1,6 +1,7 @@
 //! Helpers of the system tests: the private-network guard, DDS domains, and a ROS client
 //! node (ros2-client on its own loopback-only Context) to drive our nodes over real DDS.
 
+pub mod docs;
 pub mod flood;
 
 use motion_core::Engine;

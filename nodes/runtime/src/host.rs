@@ -5,11 +5,11 @@ use crate::cycle::{ClockMode, Controller, ControllerHandle, CycleConfig};
 use crate::shell::{self, NodeShell, ShellError, ShellSettings};
 use motion_core::Engine;
 use ros2_client::{Context, ParameterValue};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// Settings every node entry of a launch config may give (all optional).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct CommonConfig {
     /// Node name (default: the node kind, e.g. `axis_node`).

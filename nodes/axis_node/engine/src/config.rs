@@ -5,10 +5,10 @@
 //! message naming axis, key and value.
 
 use motion_core::{ErrorId, Rejection};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Actual-value model of the simulated drive (§1.1, `sim.following_model`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FollowingModel {
     /// ActPos = SetPos (+ the `set_following_offset` hook), PosDiff = 0.
@@ -19,7 +19,7 @@ pub enum FollowingModel {
 }
 
 /// Configuration of one axis. Units: positions `u`, velocities `u/s`, ... times `s`.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct AxisConfig {
     /// AxisId (1000); 0 = assigned from the position in the configuration (1, 2, ...).

@@ -30,7 +30,7 @@ pub use state::{derive_group_state, group_admission, GroupAdmission, GroupFbClas
 
 /// Configuration of one group (R-ARCH-4: members configured here belong to the group from
 /// the start, without MC_AddAxisToGroup).
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GroupConfig {
     /// Group name (unique, not empty).

@@ -57,7 +57,7 @@ pub enum AxisKind {
 }
 
 /// Platform settings of one axis (§8, §11).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct AxisPlatformConfig {
     /// Linear or rotary.
@@ -100,7 +100,7 @@ impl Default for AxisPlatformConfig {
 }
 
 /// Platform globals (§2.3) and safety settings.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PlatformConfig {
     /// `MAX_RETRIALS` (proposal): cycles a raw-layer instance retries an order that found
