@@ -102,15 +102,21 @@ def test_the_guide_names_every_service_action_and_topic(ros):
             with open(os.path.join(ROOT, "docs", f"{name}.md")) as f:
                 page = f.read()
             spans = " ".join(re.findall(r"`([^`]+)`", page))
-            end = time.monotonic() + 30
-            services = []
-            while time.monotonic() < end and len(services) < 5:
+            # Discovery fills the graph over time: wait until it has not grown for 3 s.
+            end = time.monotonic() + 60
+            services, topics, stable_since, seen = [], [], time.monotonic(), -1
+            while time.monotonic() < end:
                 ex.spin_once(timeout_sec=0.2)
                 try:
                     services = node.get_service_names_and_types_by_node(name, "/")
                     topics = node.get_publisher_names_and_types_by_node(name, "/")
                 except Exception:  # not yet discovered
                     services, topics = [], []
+                count = len(services) + len(topics)
+                if count != seen:
+                    seen, stable_since = count, time.monotonic()
+                elif count > 0 and time.monotonic() - stable_since > 3.0:
+                    break
             assert services, f"{name} not discovered"
             names = set()
             for full, _ in services:
