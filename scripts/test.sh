@@ -17,6 +17,8 @@ export MOTION_MSGS_REQUIRE_CYCLONEDDS=1
 export MOTION_REQUIRE_RCLPY=1
 cargo build --workspace --all-targets --quiet
 echo "== disk: target $(du -sh target 2>/dev/null | cut -f1), free $(df -h . | awk 'NR==2 {print $4}')"
+echo "== architecture (issue 16: import circles and long files of the engine crates)"
+python3 scripts/arch-report.py
 echo "== benchmark smoke runs"
 scripts/netns-run cargo run --quiet -p system_tests --bin bench -- --smoke
 echo "== tests"
