@@ -372,7 +372,7 @@ pub fn generated(root: &Path) -> BTreeMap<&'static str, String> {
     );
     m.insert(
         "errors-axis-ca",
-        error_table(root, &["nodes/axis_node/engine/src/ca/types.rs"]),
+        error_table(root, &["nodes/axis_node/engine/src/ca/errors.rs"]),
     );
     m.insert(
         "errors-axis-platform",

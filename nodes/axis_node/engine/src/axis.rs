@@ -7,8 +7,8 @@ use crate::config::{AxisConfig, FollowingModel};
 use crate::error_ids;
 use crate::handshake::Handshake;
 use crate::modulo;
-use crate::snapshot::{axis_state, bits, AxisStatus};
 use crate::state::{derive_state, MotionState, StateFacts};
+use crate::status::{axis_state, bits, AxisStatus};
 use motion_core::{CmdId, ErrorId, Limits, Profile1, State1};
 use std::collections::BTreeMap;
 

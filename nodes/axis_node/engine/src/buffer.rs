@@ -1,7 +1,7 @@
 //! BufferMode arithmetic (single_axis.md §3.6): the velocity at the transition point and the
 //! caps of rule 5.
 
-use crate::command::BufferMode;
+use crate::inputs::BufferMode;
 
 /// Transition velocity magnitude per the §3.6 table. `v2 = None` for MC_Halt (rule 9:
 /// BlendingLow/Next → 0, BlendingPrevious/High → v1).

@@ -193,11 +193,11 @@ pub(crate) struct Handshake {
     /// True while `step` runs (final states then show in this cycle, else in the next).
     pub in_step: bool,
     /// Recorded data of MC_TouchProbe instances.
-    pub probes: HashMap<CmdId, crate::probe::ProbeOutputs>,
+    pub probes: HashMap<CmdId, ProbeOutputs>,
     /// Extra outputs of MC_MoveSuperImposed instances.
-    pub superimposed: HashMap<CmdId, crate::superposition::SuperImposedOutputs>,
+    pub superimposed: HashMap<CmdId, SuperImposedOutputs>,
     /// Extra outputs of the phasing / position-correction FBs (engine/hooks.rs).
-    pub extra: HashMap<CmdId, crate::engine::hooks::ExtraOutputs>,
+    pub extra: HashMap<CmdId, ExtraOutputs>,
 }
 
 impl Handshake {
@@ -340,4 +340,86 @@ impl Handshake {
                 || (i.kind == FbKind::GearIn && standard.done),
         })
     }
+}
+
+/// Outputs of the added FBs beyond the standard ones ([`crate::InstanceOutputs::extra`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ExtraOutputs {
+    /// MC_Power: Status (axis ready for operation) and Valid (outputs valid: called with
+    /// Enable and no FB error).
+    Power {
+        /// Status.
+        status: bool,
+        /// Valid.
+        valid: bool,
+    },
+    /// MC_PhasingAbsolute.AbsolutePhaseShift / MC_PhasingRelative.CoveredPhaseShift \[u\].
+    Phasing {
+        /// AbsolutePhaseShift (MC_PhasingAbsolute).
+        absolute_phase_shift: Option<f64>,
+        /// CoveredPhaseShift (MC_PhasingRelative).
+        covered_phase_shift: Option<f64>,
+    },
+    /// MC_ExtSetPointGenEnable/Disable.Enabled: the generator's current state.
+    ExtSetPointGen {
+        /// Enabled.
+        enabled: bool,
+    },
+    /// MC_BacklashCompensation.
+    Backlash {
+        /// Enabled.
+        enabled: bool,
+        /// CurrentBacklash \[u\].
+        current_backlash: f64,
+        /// Limiting: the correction is still ramping.
+        limiting: bool,
+    },
+    /// MC_PositionCorrectionLimiter.
+    CorrectionLimiter {
+        /// Limiting: the requested value is not yet fully applied.
+        limiting: bool,
+    },
+    /// MC_TableBasedPositionCompensation.
+    TableCompensation {
+        /// Enabled.
+        enabled: bool,
+        /// CurrentCorrection \[u\].
+        current_correction: f64,
+        /// Limiting.
+        limiting: bool,
+    },
+}
+
+/// `MC_TouchProbeRecordedData` plus RecordedPosition.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ProbeOutputs {
+    /// RecordedPosition (absolute or modulo per `ModuloPositions`).
+    pub recorded_position: f64,
+    /// RecordedData.Counter: valid edges in the last cycle with an edge.
+    pub counter: f64,
+    /// RecordedData.AbsolutePosition.
+    pub absolute_position: f64,
+    /// RecordedData.ModuloPosition.
+    pub modulo_position: f64,
+    /// CONTINOUS mode: cycle number of the last accepted edge (Done pulses in that cycle).
+    pub edge_cycle: u64,
+}
+
+/// Outputs of an MC_MoveSuperImposed instance besides the standard ones (§4.9.1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SuperImposedOutputs {
+    /// Warning.
+    pub warning: bool,
+    /// WarningID (0x4243 = 16963).
+    pub warning_id: ErrorId,
+    /// ActualVelocityDiff.
+    pub actual_velocity_diff: f64,
+    /// ActualDistance (signed; the covered part if aborted).
+    pub actual_distance: f64,
+    /// ActualLength.
+    pub actual_length: f64,
+    /// ActualAcceleration.
+    pub actual_acceleration: f64,
+    /// ActualDeceleration.
+    pub actual_deceleration: f64,
 }

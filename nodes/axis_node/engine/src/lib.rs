@@ -88,12 +88,14 @@ mod gearing;
 pub mod group;
 pub mod handshake;
 mod homing;
+pub mod inputs;
 pub mod modulo;
 pub mod params;
 pub mod platform;
 pub mod probe;
 pub mod snapshot;
 pub mod state;
+pub mod status;
 pub mod superposition;
 mod torque;
 

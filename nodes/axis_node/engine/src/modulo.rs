@@ -1,6 +1,6 @@
 //! Modulo target computation for MC_MoveModulo (single_axis.md §4.8.4, §4.8.5, W1–W4).
 
-use crate::command::Direction;
+use crate::inputs::Direction;
 
 /// `x mod p` in `[0, p)`.
 pub fn modulo(x: f64, p: f64) -> f64 {

@@ -4,26 +4,12 @@
 //! exact crossing). `PlcEvent` latches the ActPos of the cycle with the rising edge.
 
 use crate::axis::Axis;
-use crate::command::{SignalEdge, TouchProbeMode};
 use crate::handshake::Handshake;
+use crate::inputs::{SignalEdge, TouchProbeMode};
 use crate::modulo::modulo;
 use motion_core::CmdId;
-use serde::{Deserialize, Serialize};
 
-/// `MC_TouchProbeRecordedData` plus RecordedPosition.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct ProbeOutputs {
-    /// RecordedPosition (absolute or modulo per `ModuloPositions`).
-    pub recorded_position: f64,
-    /// RecordedData.Counter: valid edges in the last cycle with an edge.
-    pub counter: f64,
-    /// RecordedData.AbsolutePosition.
-    pub absolute_position: f64,
-    /// RecordedData.ModuloPosition.
-    pub modulo_position: f64,
-    /// CONTINOUS mode: cycle number of the last accepted edge (Done pulses in that cycle).
-    pub edge_cycle: u64,
-}
+pub use crate::handshake::ProbeOutputs;
 
 /// An armed latch.
 #[derive(Clone, Copy, Debug)]

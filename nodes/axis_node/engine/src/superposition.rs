@@ -10,7 +10,6 @@ use crate::axis::Axis;
 use crate::error_ids::SUPERPOSITION_INCOMPLETE;
 use crate::handshake::Handshake;
 use motion_core::{CmdId, ErrorId};
-use serde::{Deserialize, Serialize};
 
 /// The planned trapezoid in profile time: peak `dv`, ramps `a`/`d`, total time `t`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -187,24 +186,7 @@ pub fn plan(
     }
 }
 
-/// Outputs of an MC_MoveSuperImposed instance besides the standard ones (§4.9.1).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct SuperImposedOutputs {
-    /// Warning.
-    pub warning: bool,
-    /// WarningID (0x4243 = 16963).
-    pub warning_id: ErrorId,
-    /// ActualVelocityDiff.
-    pub actual_velocity_diff: f64,
-    /// ActualDistance (signed; the covered part if aborted).
-    pub actual_distance: f64,
-    /// ActualLength.
-    pub actual_length: f64,
-    /// ActualAcceleration.
-    pub actual_acceleration: f64,
-    /// ActualDeceleration.
-    pub actual_deceleration: f64,
-}
+pub use crate::handshake::SuperImposedOutputs;
 
 /// A running overlay.
 #[derive(Clone, Copy, Debug)]

@@ -169,7 +169,18 @@ impl PlanarEngine {
             .enumerate()
             .map(|(i, g)| (g.name.clone(), i))
             .collect();
-        let (tracks, track_idx) = crate::track::build_tracks(&cfg, &parts);
+        let part_frames: Vec<crate::track::PartFrame> = parts
+            .iter()
+            .map(|p| {
+                let (cs, origin) = p.origin();
+                crate::track::PartFrame {
+                    oid: p.oid,
+                    cs,
+                    origin,
+                }
+            })
+            .collect();
+        let (tracks, track_idx) = crate::track::build_tracks(&cfg, &part_frames);
         let (axes, axis_idx) = crate::track::build_axes(&cfg);
         let part_idx = parts
             .iter()

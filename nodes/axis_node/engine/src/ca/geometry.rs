@@ -1,7 +1,7 @@
 //! Rail geometry, mover templates, parts and tracks (collision_avoidance.md §3.4) and the
 //! position transformation of MC_TransformPosition (§5.9).
 
-use super::types::errors as err;
+use super::errors as err;
 use motion_core::{ErrorId, Rejection};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;

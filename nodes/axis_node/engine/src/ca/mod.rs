@@ -11,6 +11,7 @@
 mod admin;
 pub mod bench;
 mod cycle;
+pub mod errors;
 mod gear;
 pub mod geometry;
 pub mod modulo;
@@ -607,9 +608,9 @@ impl CaGroups {
     /// from a single-axis job): DiscreteMotion while a CA move/halt runs (or the axis moves),
     /// SynchronizedMotion while coupled by MC_GearInPosCA, HasJob set accordingly. Error and
     /// disabled states of the axis are left as they are.
-    pub(crate) fn patch_status(&self, ax: usize, st: &mut crate::snapshot::AxisStatus) {
-        use crate::snapshot::bits;
+    pub(crate) fn patch_status(&self, ax: usize, st: &mut crate::status::AxisStatus) {
         use crate::state::MotionState;
+        use crate::status::bits;
         let Some(&g) = self.axis_group.get(&ax) else {
             return;
         };

@@ -37,53 +37,7 @@ pub(crate) struct CouplingExt {
     pub multi: Option<super::multi_master::Multi>,
 }
 
-/// Outputs of the added FBs beyond the standard ones ([`InstanceOutputs::extra`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub enum ExtraOutputs {
-    /// MC_Power: Status (axis ready for operation) and Valid (outputs valid: called with
-    /// Enable and no FB error).
-    Power {
-        /// Status.
-        status: bool,
-        /// Valid.
-        valid: bool,
-    },
-    /// MC_PhasingAbsolute.AbsolutePhaseShift / MC_PhasingRelative.CoveredPhaseShift \[u\].
-    Phasing {
-        /// AbsolutePhaseShift (MC_PhasingAbsolute).
-        absolute_phase_shift: Option<f64>,
-        /// CoveredPhaseShift (MC_PhasingRelative).
-        covered_phase_shift: Option<f64>,
-    },
-    /// MC_ExtSetPointGenEnable/Disable.Enabled: the generator's current state.
-    ExtSetPointGen {
-        /// Enabled.
-        enabled: bool,
-    },
-    /// MC_BacklashCompensation.
-    Backlash {
-        /// Enabled.
-        enabled: bool,
-        /// CurrentBacklash \[u\].
-        current_backlash: f64,
-        /// Limiting: the correction is still ramping.
-        limiting: bool,
-    },
-    /// MC_PositionCorrectionLimiter.
-    CorrectionLimiter {
-        /// Limiting: the requested value is not yet fully applied.
-        limiting: bool,
-    },
-    /// MC_TableBasedPositionCompensation.
-    TableCompensation {
-        /// Enabled.
-        enabled: bool,
-        /// CurrentCorrection \[u\].
-        current_correction: f64,
-        /// Limiting.
-        limiting: bool,
-    },
-}
+pub use crate::handshake::ExtraOutputs;
 
 /// Status values of the added functions (NCTOPLC / PLCTONC fields not in [`AxisStatus`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -289,12 +243,12 @@ impl AxisEngine {
     }
 
     /// The scalar NcToPlc values of [`Self::ext_status`] for the snapshot.
-    pub(crate) fn ext_values(&self, i: usize) -> crate::snapshot::ExtValues {
+    pub(crate) fn ext_values(&self, i: usize) -> crate::status::ExtValues {
         let a = &self.axes[i];
         let g = &a.ext.ext_gen;
         let corr = a.ext.x.correction();
         let (f, off) = (a.cfg.encoder_scaling_factor, a.cfg.encoder_offset);
-        crate::snapshot::ExtValues {
+        crate::status::ExtValues {
             abs_phasing_pos: a.abs_phasing_pos(),
             act_pos_without_pos_correction: a.act_pos - corr,
             position_correction: corr,

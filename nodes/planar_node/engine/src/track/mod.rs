@@ -441,10 +441,22 @@ impl TrackMotion {
     }
 }
 
-/// Builds the configured tracks (all Disabled, no geometry) and their name index.
+/// What the track subsystem needs to know of a part when it builds its tracks: its OID and
+/// where its current position puts its origin.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PartFrame {
+    pub oid: u32,
+    /// Coordinate system of the part's current position.
+    pub cs: u32,
+    /// The part's origin in that system.
+    pub origin: crate::geometry::V2,
+}
+
+/// Builds the configured tracks (all Disabled, no geometry) and their name index; `parts` in
+/// configuration order.
 pub(crate) fn build_tracks(
     cfg: &crate::config::PlanarConfig,
-    parts: &[crate::objects::Part],
+    parts: &[PartFrame],
 ) -> (Vec<Track>, std::collections::HashMap<String, usize>) {
     let tracks: Vec<Track> = cfg
         .tracks
@@ -457,7 +469,7 @@ pub(crate) fn build_tracks(
                 parts.first()
             };
             let cs = match part {
-                Some(p) => p.origin().0,
+                Some(p) => p.cs,
                 None => cfg.coordinate_systems.first().copied().unwrap_or(0),
             };
             Track {
@@ -484,7 +496,7 @@ pub(crate) fn build_tracks(
                 start_switch: None,
                 range_end: 0.0,
                 range_start: 0.0,
-                geo_origin: part.map(|p| p.origin().1).unwrap_or_default(),
+                geo_origin: part.map(|p| p.origin).unwrap_or_default(),
                 link_only: Vec::new(),
                 params: params::TrackParams::of(t),
             }
