@@ -69,8 +69,9 @@ pub(crate) fn traj_err(who: &str, e: motion_core::trajectory::TrajectoryError) -
 }
 
 impl PlanarEngine {
-    /// Builds the engine from a validated configuration; everything starts Disabled.
-    pub fn new(cfg: PlanarConfig) -> Result<Self, Rejection> {
+    /// The objects of `cfg` (environment, parts, movers, groups, tracks without their init
+    /// parameters, virtual axes); [`PlanarEngine::new`] (build.rs) adds the tracks' init.
+    pub(crate) fn with_objects(cfg: &PlanarConfig) -> Result<Self, Rejection> {
         cfg.validate()?;
         let (env_oid, mover_oids, group_oids) = cfg.resolved_oids();
         let timing = Timing {
@@ -180,14 +181,14 @@ impl PlanarEngine {
                 }
             })
             .collect();
-        let (tracks, track_idx) = crate::track::build_tracks(&cfg, &part_frames);
-        let (axes, axis_idx) = crate::track::build_axes(&cfg);
+        let (tracks, track_idx) = crate::track::build_tracks(cfg, &part_frames);
+        let (axes, axis_idx) = crate::track::build_axes(cfg);
         let part_idx = parts
             .iter()
             .enumerate()
             .map(|(i, p)| (p.name.clone(), i))
             .collect();
-        let mut eng = PlanarEngine {
+        let eng = PlanarEngine {
             timing,
             cycle_time: cfg.cycle_time,
             part_move_time: cfg.part_move_time,
@@ -224,7 +225,6 @@ impl PlanarEngine {
             switches: Vec::new(),
             guard_full: true,
         };
-        crate::track::init::apply(&mut eng, &cfg)?;
         Ok(eng)
     }
 

@@ -21,6 +21,7 @@
 //! §3.3, §5.4–§5.9, §5.12; [`bench_loop`] is the benchmark scene).
 
 pub mod admission;
+mod build;
 pub mod command;
 pub mod config;
 mod engine;
