@@ -190,7 +190,7 @@ pub(crate) struct Axis {
     /// What the enabled software limits do (Tc2_MC2 §1.3 or R-SYS-1).
     pub travel_limits: TravelLimits,
     /// State of the phasing / ext. setpoint / §4.7 extension FBs (engine/hooks.rs).
-    pub ext: crate::engine::hooks::AxisExt,
+    pub ext: crate::added::AxisExt,
 }
 
 /// What enabled software limits do.
@@ -1142,6 +1142,23 @@ impl Job {
             owner_aborts_at_end: false,
             continuous: false,
             held: false,
+        }
+    }
+}
+
+/// Shifts the coordinate system by `delta` (MC_SetPosition, §4.3).
+pub(crate) fn shift_coordinates(a: &mut Axis, delta: f64) {
+    a.set.pos += delta;
+    a.act_pos += delta;
+    a.target_pos += delta;
+    a.coord_offset += delta;
+    a.set_position_offset += delta;
+    if let Some(j) = a.job.as_mut() {
+        j.offset += delta;
+    }
+    if let Some(p) = a.pending.as_mut() {
+        if let Spec::Position { target, .. } = &mut p.spec {
+            *target += delta;
         }
     }
 }

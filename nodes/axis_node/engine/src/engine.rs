@@ -629,22 +629,7 @@ fn override_changed(a: &mut Axis, fbs: &mut Handshake) {
     a.job = Some(j);
 }
 
-/// Shifts the coordinate system by `delta` (MC_SetPosition, §4.3).
-pub(crate) fn shift_coordinates(a: &mut Axis, delta: f64) {
-    a.set.pos += delta;
-    a.act_pos += delta;
-    a.target_pos += delta;
-    a.coord_offset += delta;
-    a.set_position_offset += delta;
-    if let Some(j) = a.job.as_mut() {
-        j.offset += delta;
-    }
-    if let Some(p) = a.pending.as_mut() {
-        if let Spec::Position { target, .. } = &mut p.spec {
-            *target += delta;
-        }
-    }
-}
+pub(crate) use crate::axis::shift_coordinates;
 
 /// MC_MoveModulo target (§4.8.4).
 #[allow(clippy::too_many_arguments)]

@@ -19,7 +19,7 @@ pub(crate) struct Coupling {
     /// MC_GearInDyn: velocity-type coupling with a slewed ratio.
     pub dynamic: Option<DynCoupling>,
     /// Phasing offset and MC_GearInMultiMaster data (engine/phasing.rs, multi_master.rs).
-    pub ext: crate::engine::hooks::CouplingExt,
+    pub ext: crate::added::CouplingExt,
 }
 
 /// State of an MC_GearInDyn coupling (§4.12.2): `ratio` of [`Coupling`] is r_eff.

@@ -185,7 +185,7 @@ impl Axis {
                 // ActPos := reference position + distance travelled since the reference point.
                 let new_act = h.position + (raw - h.ref_raw);
                 let delta = new_act - self.act_pos;
-                crate::engine::shift_coordinates(self, delta);
+                crate::axis::shift_coordinates(self, delta);
                 self.set_position_offset = 0.0;
                 self.homed = true;
                 self.homing = None;

@@ -2,24 +2,21 @@
 //! single_axis.md §5.3): the vocabulary every layer of the axis engine shares. It owns the
 //! numeric values and their checked conversion; it knows no FB, axis or engine.
 
-use motion_core::{ErrorId, Rejection};
-use serde::{Deserialize, Serialize};
-
 macro_rules! raw_enum {
     ($(#[$m:meta])* $name:ident : $field:literal { $($(#[$vm:meta])* $var:ident = $val:expr),+ $(,)? }) => {
         $(#[$m])*
-        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
         pub enum $name {
             $($(#[$vm])* $var = $val),+
         }
         impl $name {
             /// Converts the manual's numeric value; unknown values are refused with
             /// `ENUM_OUT_OF_RANGE` and a message naming the field and value.
-            pub fn from_raw(value: u32) -> Result<Self, Rejection> {
+            pub fn from_raw(value: u32) -> Result<Self, motion_core::Rejection> {
                 match value {
                     $(v if v == $val => Ok($name::$var),)+
-                    _ => Err(Rejection::new(
-                        ErrorId::ENUM_OUT_OF_RANGE,
+                    _ => Err(motion_core::Rejection::new(
+                        motion_core::ErrorId::ENUM_OUT_OF_RANGE,
                         format!("{} = {} is not a valid {}", $field, value, stringify!($name)),
                     )),
                 }

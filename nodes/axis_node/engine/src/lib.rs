@@ -76,6 +76,7 @@
 //! effective gap, CA limitation), instance outputs through [`AxisEngine::outputs`] and
 //! [`ca::CaGroups::gear_outputs`]. [`bench_ring`] builds a moving ring for benchmarks.
 
+mod added;
 mod axis;
 pub mod buffer;
 pub mod ca;
@@ -84,6 +85,7 @@ pub mod command;
 pub mod config;
 mod engine;
 pub mod error_ids;
+pub mod extension_inputs;
 mod gearing;
 pub mod group;
 pub mod handshake;

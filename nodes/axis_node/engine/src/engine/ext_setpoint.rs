@@ -20,6 +20,7 @@
 //! only when the generator was enabled with `Options.UseTorqueOffset`.
 
 use super::*;
+use crate::added::*;
 use serde::{Deserialize, Serialize};
 
 crate::command::raw_enum! {
@@ -90,19 +91,6 @@ pub struct ExtSetPointGenFeedWithTorque {
     /// Direction: −1, 0, +1.
     pub direction: i32,
     /// TorqueOffset (→ `PlcToNc.ExtTorque`) \[%\].
-    pub torque_offset: f64,
-}
-
-/// State of the external setpoint generator of one axis.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct ExtGen {
-    pub enabled: bool,
-    pub use_torque_offset: bool,
-    /// Last fed values (`PlcToNc.ExtSetPos/Velo/Acc/Direction`).
-    pub fed: State1,
-    pub direction: i32,
-    pub fed_since_enable: bool,
-    /// `PlcToNc.ExtTorque` as forwarded \[%\].
     pub torque_offset: f64,
 }
 

@@ -48,67 +48,9 @@
 
 use super::hooks::ExtraOutputs;
 use super::*;
+use crate::added::*;
 
-mod commands;
-pub use commands::*;
-
-/// MC_BacklashCompensation while enabled.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Backlash {
-    pub owner: CmdId,
-    pub backlash: f64,
-    pub positive: bool,
-    pub ramp: f64,
-}
-
-/// MC_PositionCorrectionLimiter while enabled.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Limiter {
-    pub owner: CmdId,
-    pub value: f64,
-    pub mode: PositionCorrectionMode,
-    pub acceleration: f64,
-    pub length: f64,
-    /// FULLLENGTH: the change to spread (value − correction when the value last changed).
-    pub change: f64,
-}
-
-/// MC_TableBasedPositionCompensation while enabled.
-#[derive(Clone, Debug)]
-pub(crate) struct Table {
-    pub owner: CmdId,
-    pub table: Vec<PositionCompensationTableElement>,
-    pub param: PositionCompensationTableParameter,
-    pub ramp: f64,
-}
-
-/// Extension state of one axis.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct ExtState {
-    pub drive_mode: DriveOperationMode,
-    pub torque_seen: bool,
-    pub control_loop_index: u16,
-    /// `[device][output]` images of MC_WriteNcIoOutput.
-    pub nc_io: [[u32; 14]; 2],
-    pub backlash: Option<Backlash>,
-    pub backlash_corr: f64,
-    pub limiter: Option<Limiter>,
-    pub limiter_corr: f64,
-    pub table: Option<Table>,
-    pub table_corr: f64,
-    /// Last travel direction (sign of the last non-zero set velocity).
-    pub last_dir: f64,
-    pub prev_pos: f64,
-    /// MC_Write(Bool)ParameterPersistent initialization list, in write order (last wins).
-    pub persistent: Vec<(u32, f64)>,
-}
-
-impl ExtState {
-    /// The total position correction \[u\].
-    pub fn correction(&self) -> f64 {
-        self.backlash_corr + self.limiter_corr + self.table_corr
-    }
-}
+pub use crate::extension_inputs::*;
 
 /// Moves `x` towards `target` by at most `max_step` (∞ = at once).
 fn approach(x: f64, target: f64, max_step: f64) -> f64 {

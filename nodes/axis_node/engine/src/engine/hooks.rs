@@ -7,36 +7,6 @@
 use super::*;
 use serde::{Deserialize, Serialize};
 
-/// Per-axis state of the added FBs (field `ext` of the axis).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct AxisExt {
-    /// The running phasing instance (to end it when the coupling goes away).
-    pub phasing_owner: Option<CmdId>,
-    /// The enabled MC_GearInMultiMaster instance (to end it when decoupled).
-    pub multi_owner: Option<CmdId>,
-    /// External setpoint generator (§4.6).
-    pub ext_gen: super::ext_setpoint::ExtGen,
-    /// MC_SetAcceptBlockedDriveSignal (ControlDWord bit 8).
-    pub accept_blocked_drive: bool,
-    /// §4.7 extensions.
-    pub x: super::extensions::ExtState,
-}
-
-impl AxisExt {
-    /// The external setpoint generator moves the axis (state ContinuousMotion, §2.2 note).
-    pub fn ext_gen_moving(&self) -> bool {
-        self.ext_gen.enabled && self.ext_gen.fed_since_enable && self.ext_gen.fed.vel != 0.0
-    }
-}
-
-/// Per-coupling state of the added FBs (field `ext` of a coupling): the phasing offset and
-/// the MC_GearInMultiMaster data.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct CouplingExt {
-    pub phase: super::phasing::Phase,
-    pub multi: Option<super::multi_master::Multi>,
-}
-
 pub use crate::handshake::ExtraOutputs;
 
 /// Status values of the added functions (NCTOPLC / PLCTONC fields not in [`AxisStatus`]).

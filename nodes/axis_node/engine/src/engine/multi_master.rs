@@ -31,31 +31,11 @@
 //! taken back by the limiter).
 
 use super::*;
+use crate::added::*;
+pub use crate::added::{GearInMultiMasterOptions, GearInMultiMasterSyncMode};
 use crate::gearing::Coupling;
 use motion_core::Profile1;
 use serde::{Deserialize, Serialize};
-
-crate::command::raw_enum! {
-    /// `E_GearInMultiMasterSyncMode` (§4.12.4).
-    GearInMultiMasterSyncMode: "Options.SyncMode" {
-        /// VELOSYNC (0, default): velocity-synchronous only.
-        #[default]
-        VeloSync = 0,
-        /// POSSYNC1 (1): position difference of dynamic limitation caught up later.
-        PosSync1 = 1,
-        /// POSSYNC2 (2): all position differences caught up (absolute coupling).
-        PosSync2 = 2,
-    }
-}
-
-/// `ST_GearInMultiMasterOptions` (§5.4).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct GearInMultiMasterOptions {
-    /// AdvancedSlaveDynamics: slave limited by v/a/j, may couple onto moving masters.
-    pub advanced_slave_dynamics: bool,
-    /// SyncMode (only with AdvancedSlaveDynamics).
-    pub sync_mode: GearInMultiMasterSyncMode,
-}
 
 /// MC_GearInMultiMaster (§4.12.4, Enable-type): one call with the current inputs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -90,41 +70,6 @@ pub struct GearInMultiMaster {
     pub buffer_mode: BufferMode,
     /// Options.
     pub options: GearInMultiMasterOptions,
-}
-
-/// A multi-master coupling (on [`Coupling`]`.ext.multi`).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Multi {
-    /// The enabled instance (None after Enable↓: ratios frozen).
-    pub owner: Option<CmdId>,
-    pub masters: [Option<usize>; 4],
-    /// GearRatio inputs.
-    pub target: [f64; 4],
-    /// Effective ratios.
-    pub ratio: [f64; 4],
-    /// Slew rates |dr/dt| \[1/s\].
-    pub rate: [f64; 4],
-    /// Master values (raw) of this cycle, filled before the slave's step.
-    pub inputs: [State1; 4],
-    /// Raw master positions of the previous cycle and at the coupling instant.
-    pub m_prev: [f64; 4],
-    pub m0: [f64; 4],
-    pub asd: bool,
-    pub sync_mode: GearInMultiMasterSyncMode,
-    /// Acceleration, Deceleration, Jerk inputs after defaulting.
-    pub acc: f64,
-    pub dec: f64,
-    pub jerk: f64,
-    /// Limiter state (slave set state without φ).
-    pub ls: State1,
-    /// Ideal position (POSSYNC) and whether POSSYNC1 reached velocity sync.
-    pub p_star: f64,
-    pub pos_synced: bool,
-    /// ASD: synchronous in the last cycle (the slave then follows the ideal motion exactly
-    /// while that stays within its acceleration limit; the limiter plans only otherwise).
-    pub synced: bool,
-    /// v* of the last cycle.
-    pub v_prev: f64,
 }
 
 impl Coupling {
@@ -316,7 +261,7 @@ impl AxisEngine {
             m0: m0[k1],
             s0: a.set.pos,
             dynamic: None,
-            ext: super::hooks::CouplingExt {
+            ext: CouplingExt {
                 phase: Default::default(),
                 multi: Some(multi),
             },

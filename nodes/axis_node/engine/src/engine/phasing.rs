@@ -25,6 +25,7 @@
 
 use super::hooks::ExtraOutputs;
 use super::*;
+use crate::added::*;
 use motion_core::Profile1;
 use serde::{Deserialize, Serialize};
 
@@ -105,40 +106,6 @@ pub struct PhasingUpdate {
     pub deceleration: f64,
     /// Jerk (0 = default).
     pub jerk: f64,
-}
-
-/// `E_PhasingType` (§4.13, §5.3): the three operations.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum PhasingType {
-    /// NC_PHASINGTYPE_ABSOLUTE (1).
-    Absolute,
-    /// NC_PHASINGTYPE_RELATIVE (2).
-    Relative,
-    /// NC_PHASINGTYPE_STOP (4096).
-    Stop,
-}
-
-/// The phasing offset of a coupling: φ with its derivatives and the running command.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Phase {
-    /// φ, dφ/dt, d²φ/dt² \[slave u, u/s, u/s²\].
-    pub s: State1,
-    pub job: Option<PhaseJob>,
-}
-
-/// A running phasing command.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct PhaseJob {
-    pub owner: CmdId,
-    pub ty: PhasingType,
-    pub profile: Profile1,
-    pub t: f64,
-    /// φ at the edge (CoveredPhaseShift = φ − start).
-    pub start: f64,
-    /// ContinuousUpdate latched at the edge (and Execute still TRUE).
-    pub continuous: bool,
-    /// Done has been reported.
-    pub reached: bool,
 }
 
 /// Inputs common to the two phasing FBs.

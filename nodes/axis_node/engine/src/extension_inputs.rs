@@ -1,9 +1,9 @@
-//! Inputs, enumerations and values of the §4.7 extension FBs (their commands and replies).
+//! Inputs, enumerations and values of the §4.7 extension FBs (their commands and replies),
+//! single_axis.md §4.7: vocabulary of the single axis, knowing no engine.
 
-use super::super::*;
 use serde::{Deserialize, Serialize};
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_DriveOperationMode` (§5.3).
     DriveOperationMode: "DriveOperationMode" {
         /// DriveOperationMode_Default (0): re-activate the NC default mode (Pos1).
@@ -36,7 +36,7 @@ crate::command::raw_enum! {
     }
 }
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_DisableMode` (§5.3).
     DisableMode: "DisableMode" {
         /// DisableModeHold (0, default): keep the last correction.
@@ -47,7 +47,7 @@ crate::command::raw_enum! {
     }
 }
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_AxisPositionCorrectionMode` (§5.3; declared as E_PositionCorrectionMode).
     PositionCorrectionMode: "CorrectionMode" {
         /// POSITIONCORRECTION_MODE_UNLIMITED (0): at once.
@@ -60,7 +60,7 @@ crate::command::raw_enum! {
     }
 }
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_WorkDirection` (§5.3).
     WorkDirection: "Direction" {
         /// WorkDirectionNone (0): no compensation.
@@ -75,7 +75,7 @@ crate::command::raw_enum! {
     }
 }
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_SelectControlLoopType` (§5.3; declared as E_SelectControlLoop).
     SelectControlLoopType: "SelectType" {
         /// SelectControlLoopType_Undefined (0).
@@ -90,7 +90,7 @@ crate::command::raw_enum! {
     }
 }
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_SetScalingFactorMode` (§5.3).
     SetScalingFactorMode: "Mode" {
         /// ENCODERSCALINGMODE_ABSOLUTE (0): the position jumps.
@@ -101,7 +101,7 @@ crate::command::raw_enum! {
     }
 }
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_NcIoDevice` (§5.3).
     NcIoDevice: "Device" {
         /// NcIoDeviceDrive (0, default).
@@ -112,7 +112,7 @@ crate::command::raw_enum! {
     }
 }
 
-crate::command::raw_enum! {
+crate::inputs::raw_enum! {
     /// `E_NcIoOutput` (§5.3).
     NcIoOutput: "NcIoOutput" {
         /// NcIoOutputnCtrl1 (0, default).
