@@ -106,7 +106,9 @@ fn w11_axis_beyond_the_track_end() {
     assert!(close(on_track(&s, "M").set_pos, 760.0, 1e-6));
 }
 
-fn w23(target: f64) -> (Sim, motion_core::CmdId) {
+/// The W23 trail: T1 (100,100)-(400,100), then T2 from T1's end to (860,100); M on T1 and
+/// the virtual master X powered.
+fn two_track_trail() -> Sim {
     let mut s = sim(&["T1", "T2"]);
     s.ok(line("T1", (100.0, 100.0), (400.0, 100.0)));
     enable_track(&mut s, "T1");
@@ -116,14 +118,19 @@ fn w23(target: f64) -> (Sim, motion_core::CmdId) {
     });
     s.ok(line("T2", (500.0, 100.0), (860.0, 100.0)));
     enable_track(&mut s, "T2");
-    assert_eq!(track(&s, "T1").length, 300.0);
-    assert_eq!(track(&s, "T2").length, 460.0);
     s.enable("M");
     join_wait(&mut s, "M", "T1", true);
     s.ok(PlanarCommand::AxisPower {
         axis: "X".into(),
         enable: true,
     });
+    s
+}
+
+fn w23(target: f64) -> (Sim, motion_core::CmdId) {
+    let mut s = two_track_trail();
+    assert_eq!(track(&s, "T1").length, 300.0);
+    assert_eq!(track(&s, "T2").length, 460.0);
     s.ok(axis_move(target));
     assert_eq!(
         s.err(gear(&["T2", "T1"], 100.0, 100.0, "T1")).error_id,
@@ -209,21 +216,7 @@ fn axis_and_gear_bad_requests() {
 /// moves to 700 at 100 mm/s (a 1000, j 10000); sync positions 100/100, so s = X. With the
 /// slave sync position 150 (s = X + 50) the slave first catches up, then follows.
 fn follow_law(s_sync: f64) -> (f64, usize, usize) {
-    let mut s = sim(&["T1", "T2"]);
-    s.ok(line("T1", (100.0, 100.0), (400.0, 100.0)));
-    enable_track(&mut s, "T1");
-    s.ok(PlanarCommand::TrackStartFromTrack {
-        track: "T2".into(),
-        other: "T1".into(),
-    });
-    s.ok(line("T2", (500.0, 100.0), (860.0, 100.0)));
-    enable_track(&mut s, "T2");
-    s.enable("M");
-    join_wait(&mut s, "M", "T1", true);
-    s.ok(PlanarCommand::AxisPower {
-        axis: "X".into(),
-        enable: true,
-    });
+    let mut s = two_track_trail();
     let mut g = gear(&["T1", "T2"], 100.0, s_sync, "T1");
     if let PlanarCommand::GearInPosOnTrack { options, .. } = &mut g {
         options.in_sync_tolerance_distance = 0.5;

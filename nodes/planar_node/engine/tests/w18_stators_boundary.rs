@@ -33,20 +33,7 @@ fn w18_stators_and_boundary() {
     // the environment; the mover's centre stops at the edge x = 480, where it could no longer
     // levitate, and it goes to Error with E_COLLISION naming the environment.
     let id = s.ok(mtp("M", 500.0, 100.0, 0.0));
-    assert_eq!(
-        s.wait_final(id, 5.0),
-        motion_core::CommandState::Error(errors::E_COLLISION)
-    );
-    s.steps(100);
-    let m = s.mover("M");
-    assert!(
-        m.set_pos.x <= 480.0 + 1e-6 && m.set_pos.x > 480.0 - 1e-3,
-        "stopped at x = {}",
-        m.set_pos.x
-    );
-    assert_eq!(m.state, PlanarState::Error);
-    assert_eq!(m.object_info.object_type, PlanarObjectType::Environment);
-    assert_eq!(m.object_info.id, s.snap().environment.oid);
+    assert_stopped_at_edge(&mut s, id, "M", 480.0);
     // Clear removes stators and boundary; CreateBoundary without stators fails.
     s.ok(PlanarCommand::EnvironmentClear);
     assert_eq!(s.snap().environment.stator_count, 0);

@@ -51,17 +51,5 @@ fn w22_environment_collision() {
     // the centre stops at the stators' edge x = 120 and the mover goes to Error with
     // E_COLLISION and objectInfo = the environment.
     let id = s.ok(mtp("M", 200.0, 0.0, 0.0));
-    assert_eq!(
-        s.wait_final(id, 5.0),
-        CommandState::Error(errors::E_COLLISION)
-    );
-    s.steps(100);
-    let m = s.mover("M");
-    assert!(
-        m.set_pos.x <= 120.0 + 1e-6 && m.set_pos.x > 120.0 - 1e-3,
-        "stopped at x = {}",
-        m.set_pos.x
-    );
-    assert_eq!(m.state, PlanarState::Error);
-    assert_eq!(m.object_info.object_type, PlanarObjectType::Environment);
+    assert_stopped_at_edge(&mut s, id, "M", 120.0);
 }

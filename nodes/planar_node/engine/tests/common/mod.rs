@@ -254,3 +254,22 @@ pub fn sp_x(p: f64, v: f64, a: f64, base: MoverVector) -> (MoverVector, MoverVec
         },
     )
 }
+
+/// Issue 15.3: a move off the stators ends in E_COLLISION; the mover's centre stopped on the
+/// edge `x_edge` (never past it) and the mover is in Error naming the environment.
+pub fn assert_stopped_at_edge(s: &mut Sim, id: CmdId, mover: &str, x_edge: f64) {
+    assert_eq!(
+        s.wait_final(id, 5.0),
+        CommandState::Error(planar_engine::errors::E_COLLISION)
+    );
+    s.steps(100);
+    let m = s.mover(mover);
+    assert!(
+        m.set_pos.x <= x_edge + 1e-6 && m.set_pos.x > x_edge - 1e-3,
+        "stopped at x = {} (edge {x_edge})",
+        m.set_pos.x
+    );
+    assert_eq!(m.state, PlanarState::Error);
+    assert_eq!(m.object_info.object_type, PlanarObjectType::Environment);
+    assert_eq!(m.object_info.id, s.snap().environment.oid);
+}
