@@ -87,3 +87,39 @@ fn every_page_has_its_tables_and_the_readme_links_the_guide() {
         "mover defaults"
     );
 }
+
+/// Every launch config shown in the README and the guide (```yaml blocks with `nodes:`) is
+/// accepted as written, node part included, as `motion_launch --check` would.
+#[test]
+fn the_launch_configs_shown_are_valid() {
+    let root = workspace();
+    let mut pages = vec![root.join("README.md")];
+    for e in std::fs::read_dir(root.join("docs")).unwrap() {
+        pages.push(e.unwrap().path());
+    }
+    let mut checked = 0;
+    for page in pages {
+        let text = std::fs::read_to_string(&page).unwrap();
+        for block in text.split("```yaml\n").skip(1) {
+            let yaml = block.split("```").next().unwrap();
+            if !yaml.contains("nodes:") {
+                continue;
+            }
+            let file = page.display().to_string();
+            let entries = motion_runtime::launch::parse(yaml, &file, motion_launch::KINDS)
+                .unwrap_or_else(|e| panic!("{file}: {e}"));
+            for e in entries {
+                let kind = motion_launch::KINDS
+                    .iter()
+                    .find(|k| k.kind == e.kind)
+                    .expect("kind");
+                (kind.check)(e.engine.clone(), &e.location).unwrap_or_else(|e| panic!("{e}"));
+            }
+            checked += 1;
+        }
+    }
+    assert!(
+        checked >= 2,
+        "the README and docs/README.md show launch configs"
+    );
+}
