@@ -66,7 +66,16 @@ use crate::no_security::SecurityPluginsHandle;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum TimedEvent {
   DeadlineMissedCheck,
+  /// motion-suite patch 6: repeat the pre-emptive ACKNACK to a newly matched writer
+  /// (`left` more times) while nothing has come from it. The first one may reach the
+  /// writer's participant before it has matched this reader; it is then dropped, and the
+  /// writer resends only at its next HEARTBEAT (Cyclone: 100 ms, Fast DDS: 3 s).
+  PreemptiveAcknackRepeat { writer: GUID, left: u8 },
 }
+
+/// motion-suite patch 6: delay of the first repeat of a pre-emptive ACKNACK; each further
+/// repeat waits three times as long (20, 60 ms).
+const PREEMPTIVE_ACKNACK_REPEAT: std::time::Duration = std::time::Duration::from_millis(20);
 
 // Some pieces necessary to construct a reader.
 // These can be sent between threads, whereas a Reader cannot.
@@ -226,6 +235,19 @@ impl Reader {
     self.guid().entity_id.as_token()
   }
 
+  /// motion-suite patch 6: the next repeat of the pre-emptive ACKNACK to `writer` (`left`
+  /// repeats to go: the first after 20 ms, the last 60 ms after that).
+  fn schedule_preemptive_acknack_repeat(&mut self, writer: GUID, left: u8) {
+    let delay = PREEMPTIVE_ACKNACK_REPEAT * if left >= 2 { 1 } else { 3 };
+    self.timed_event_timer.borrow_mut().set_timeout(
+      delay,
+      DpTimerEvent::Reader {
+        entity_id: self.my_guid.entity_id,
+        event: TimedEvent::PreemptiveAcknackRepeat { writer, left },
+      },
+    );
+  }
+
   pub fn set_requested_deadline_check_timer(&mut self) {
     if let Some(deadline) = self.qos_policy.deadline {
       debug!(
@@ -323,6 +345,19 @@ impl Reader {
       TimedEvent::DeadlineMissedCheck => {
         self.handle_requested_deadline_event();
         self.set_requested_deadline_check_timer(); // re-prime timer
+      }
+      TimedEvent::PreemptiveAcknackRepeat { writer, left } => {
+        let Some(mut writer_proxy) = self.matched_writers.remove(&writer) else {
+          return; // unmatched meanwhile
+        };
+        let silent = writer_proxy.no_changes_received();
+        if silent {
+          self.send_preemptive_acknack_to(&mut writer_proxy);
+        }
+        self.matched_writers.insert(writer, writer_proxy);
+        if silent && left > 1 {
+          self.schedule_preemptive_acknack_repeat(writer, left - 1);
+        }
       }
     }
   }
@@ -424,6 +459,11 @@ impl Reader {
             if let Some(mut writer_proxy) = self.matched_writers.remove(&writer) {
               self.send_preemptive_acknack_to(&mut writer_proxy);
               self.matched_writers.insert(writer, writer_proxy);
+              // motion-suite patch 6: again soon, in case it arrived before the writer
+              // had matched us (see TimedEvent::PreemptiveAcknackRepeat).
+              if !self.like_stateless {
+                self.schedule_preemptive_acknack_repeat(writer, 2);
+              }
             }
           }
         }
