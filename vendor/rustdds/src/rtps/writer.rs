@@ -116,6 +116,10 @@ pub(crate) enum TimedEvent {
   CacheCleaning,
   SendRepairData { to_reader: GUID },
   SendRepairFrags { to_reader: GUID },
+  /// motion-suite patch 7: repeat the HEARTBEAT to a newly matched reader (`left` more
+  /// times) while it has not acknowledged what we hold: the first may arrive before the
+  /// reader's participant has matched us, and is then dropped.
+  HeartbeatToNewReader { reader: GUID, left: u8 },
 }
 
 // This is used to construct an actual Writer.
@@ -478,6 +482,28 @@ impl Writer {
 
   // Handle a single timed event. The shared timer is drained by the event loop,
   // which dispatches each expired event to the addressed Writer.
+  /// A HEARTBEAT (what we hold, final flag off: answer with an ACKNACK) to one reader.
+  fn heartbeat_to_reader(&mut self, reader: GUID) {
+    let first = self.send_buffer.first_change_sequence_number();
+    let last = self.send_buffer.last_change_sequence_number();
+    let hb_message = MessageBuilder::new()
+      .ts_msg(self.endianness, Some(Timestamp::now()))
+      .heartbeat_msg(
+        self.entity_id(),
+        first,
+        last,
+        self.next_heartbeat_count(),
+        self.endianness,
+        EntityId::UNKNOWN,
+        false, // final_flag: require the reader to respond with ACKNACK
+        false, // liveliness_flag
+      )
+      .add_header_and_build(self.my_guid.prefix);
+    if let Some(rp) = self.readers.get(&reader) {
+      self.send_control_to_readers(DeliveryMode::Unicast, hb_message, &mut std::iter::once(rp));
+    }
+  }
+
   pub fn handle_timed_event(&mut self, event: TimedEvent) {
     match event {
       TimedEvent::Heartbeat => {
@@ -494,6 +520,25 @@ impl Writer {
         };
         if let Some(period) = next_period {
           self.schedule_timed_event(std::time::Duration::from(period), TimedEvent::Heartbeat);
+        }
+      }
+      TimedEvent::HeartbeatToNewReader { reader, left } => {
+        let last = self.send_buffer.last_change_sequence_number();
+        let behind = self
+          .readers
+          .get(&reader)
+          .is_some_and(|rp| rp.all_acked_before <= last);
+        if behind {
+          self.heartbeat_to_reader(reader);
+          if left > 1 {
+            self.schedule_timed_event(
+              std::time::Duration::from_millis(60),
+              TimedEvent::HeartbeatToNewReader {
+                reader,
+                left: left - 1,
+              },
+            );
+          }
         }
       }
       TimedEvent::CacheCleaning => {
@@ -2008,28 +2053,15 @@ impl Writer {
           // and the endpoints stay unmatched. Unicast to just the new reader.
           if self.is_reliable() && !self.like_stateless {
             let new_reader_guid = reader_proxy.remote_reader_guid;
-            let first = self.send_buffer.first_change_sequence_number();
-            let last = self.send_buffer.last_change_sequence_number();
-            let hb_message = MessageBuilder::new()
-              .ts_msg(self.endianness, Some(Timestamp::now()))
-              .heartbeat_msg(
-                self.entity_id(),
-                first,
-                last,
-                self.next_heartbeat_count(),
-                self.endianness,
-                EntityId::UNKNOWN,
-                false, // final_flag: require the reader to respond with ACKNACK
-                false, // liveliness_flag
-              )
-              .add_header_and_build(self.my_guid.prefix);
-            if let Some(rp) = self.readers.get(&new_reader_guid) {
-              self.send_control_to_readers(
-                DeliveryMode::Unicast,
-                hb_message,
-                &mut std::iter::once(rp),
-              );
-            }
+            self.heartbeat_to_reader(new_reader_guid);
+            // motion-suite patch 7: again 20 and 80 ms later while it lags.
+            self.schedule_timed_event(
+              std::time::Duration::from_millis(20),
+              TimedEvent::HeartbeatToNewReader {
+                reader: new_reader_guid,
+                left: 2,
+              },
+            );
           }
           info!(
             "Matched new remote reader on topic={:?} reader={:?}",
