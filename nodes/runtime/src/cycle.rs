@@ -683,7 +683,7 @@ impl<E: Engine> CycleThread<E> {
                 Some(front) => {
                     front.0 -= 1;
                     if front.0 == 0 {
-                        self.take_snapshot();
+                        self.snapshot_current();
                         if let Some((_, reply)) = pending.pop_front() {
                             let _ = reply.send(self.cycle);
                         }
@@ -768,7 +768,7 @@ impl<E: Engine> CycleThread<E> {
             .cycle
             .is_multiple_of(u64::from(self.config.snapshot_every.max(1)))
         {
-            self.take_snapshot();
+            self.snapshot_current();
         }
     }
 
@@ -779,9 +779,7 @@ impl<E: Engine> CycleThread<E> {
         if self.stream.is_none() || n == 0 || !self.cycle.is_multiple_of(n) {
             return;
         }
-        if self.snap_tx.borrow().cycle != self.cycle {
-            self.take_snapshot();
-        }
+        self.snapshot_current();
         let snap = self.snap_tx.borrow().clone();
         let sent = self.stream.as_ref().map(|tx| tx.blocking_send(snap));
         if let Some(Err(_)) = sent {
@@ -816,6 +814,15 @@ impl<E: Engine> CycleThread<E> {
             Request::Cycle(f) => return Some(f),
         }
         None
+    }
+
+    /// A snapshot of the current cycle unless one was already taken after it (the stream, a
+    /// command's end and the end of a step all want the same one; the engine's snapshot is the
+    /// costly part of a lockstep cycle).
+    fn snapshot_current(&mut self) {
+        if self.snap_tx.borrow().cycle != self.cycle {
+            self.take_snapshot();
+        }
     }
 
     fn take_snapshot(&mut self) {
