@@ -85,20 +85,6 @@ impl Axis1 {
         }
     }
 
-    /// The state `h` seconds ahead along the plan (rest at its end; constant velocity without
-    /// a plan).
-    pub fn predict(&self, h: f64) -> State1 {
-        match &self.plan {
-            Some((p, t)) if t + h < p.duration() => p.at(t + h),
-            Some((p, _)) => p.end(),
-            None => State1 {
-                pos: self.pos + self.vel * h,
-                vel: self.vel,
-                acc: 0.0,
-            },
-        }
-    }
-
     /// Advances one cycle; true when the plan just finished (state exactly at its end).
     pub fn advance(&mut self, dt: f64) -> bool {
         let Some((p, t)) = &mut self.plan else {

@@ -1785,30 +1785,6 @@ impl PlanarEngine {
 
     // ------------------------------------------------------------------ gear-in (§5.8)
 
-    /// Master position (relative to its sync origin) and velocity `h` seconds ahead: along
-    /// its own plan (exact), else at constant velocity. None if a master mover left its track.
-    fn master_state(&self, g: &GearIn, h: f64) -> Option<(f64, f64)> {
-        match g.master {
-            Master::Mover(j) => {
-                let mt = self.movers[j].track.as_ref()?;
-                Some(match &mt.plan {
-                    Some((mp, t)) => {
-                        let x = mp.at((t + h).min(mp.duration()));
-                        (
-                            x.pos - g.master_origin,
-                            if t + h >= mp.duration() { 0.0 } else { x.vel },
-                        )
-                    }
-                    None => (mt.r + mt.v * h - g.master_origin, mt.v),
-                })
-            }
-            Master::Axis(a) => {
-                let x = self.axes[a].ax.predict(h);
-                Some((x.pos, x.vel))
-            }
-        }
-    }
-
     /// The master's motion (master coordinates) as a profile, and the time in it that belongs
     /// to the slave's current state: axes and movers before `i` have already advanced this
     /// cycle, movers after it not yet.
@@ -2080,7 +2056,7 @@ impl PlanarEngine {
         if g.boundary || tm.braking {
             return;
         }
-        if self.master_state(g, 0.0).is_none() {
+        let Some((mp, t0)) = self.master_motion(g, i, dt) else {
             // The master left its track: the coupling ends.
             let ev_ = &mut self.pending;
             let m = &mut self.movers[i];
@@ -2090,7 +2066,7 @@ impl PlanarEngine {
                 t.plan_stop(&d);
             }
             return;
-        }
+        };
         // followMover: the slave's way grows with the master's path.
         let mut extend: Vec<usize> = Vec::new();
         if let (true, Master::Mover(j)) = (g.follow, g.master) {
@@ -2107,9 +2083,6 @@ impl PlanarEngine {
                 }
             }
         }
-        let Some((mp, t0)) = self.master_motion(g, i, dt) else {
-            return;
-        };
         // s* = s_sync + (m - m_sync); `mc` is the master at the slave's current time.
         let off = g.s_sync - g.m_sync;
         let mc = mp.at(t0);
