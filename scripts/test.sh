@@ -27,6 +27,14 @@ trap 'rm -f "$log"' EXIT
 set +e
 scripts/netns-run cargo test --workspace --no-fail-fast "$@" 2>&1 | tee "$log"
 rc=${PIPESTATUS[0]}
+# The vendored RustDDS's own unit tests (upstream's and the regression tests of our patches,
+# vendor/README.md), built apart: it is outside the workspace, with its own lock file.
+if [ $# -eq 0 ]; then
+  echo "== vendor/rustdds unit tests"
+  CARGO_TARGET_DIR=target/vendor-rustdds scripts/netns-run \
+    cargo test --quiet --locked --manifest-path vendor/rustdds/Cargo.toml --lib 2>&1 | tee -a "$log"
+  [ "${PIPESTATUS[0]}" = 0 ] || rc=1
+fi
 set -e
 # One closing line over all test binaries (cargo's last line is often an empty doc-test run).
 awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($(i+1) ~ /^passed/) p += $i; if ($(i+1) ~ /^failed/) f += $i; if ($(i+1) ~ /^ignored/) s += $i } }

@@ -67,9 +67,11 @@ use crate::no_security::SecurityPluginsHandle;
 pub(crate) enum TimedEvent {
   DeadlineMissedCheck,
   /// motion-suite patch 6: repeat the pre-emptive ACKNACK to a newly matched writer
-  /// (`left` more times) while nothing has come from it. The first one may reach the
+  /// (`left` more times) while no sample has come from it. The first one may reach the
   /// writer's participant before it has matched this reader; it is then dropped, and the
-  /// writer resends only at its next HEARTBEAT (Cyclone: 100 ms, Fast DDS: 3 s).
+  /// writer resends only at its next HEARTBEAT (Cyclone: 100 ms, Fast DDS: 3 s). Or the
+  /// writer answers it with an empty HEARTBEAT although its first DATA (sent before we
+  /// matched, so dropped) is already out: seen with Cyclone, 1 in 1000 fresh clients.
   PreemptiveAcknackRepeat { writer: GUID, left: u8 },
 }
 
@@ -350,7 +352,7 @@ impl Reader {
         let Some(mut writer_proxy) = self.matched_writers.remove(&writer) else {
           return; // unmatched meanwhile
         };
-        let silent = writer_proxy.no_changes_received();
+        let silent = writer_proxy.nothing_received();
         if silent {
           self.send_preemptive_acknack_to(&mut writer_proxy);
         }
@@ -1855,6 +1857,98 @@ mod tests {
       .matched_writer(writer_guid)
       .expect("Did not find a matched writer");
     assert_eq!(writer_proxy.sent_ack_nack_count, 3);
+  }
+
+  // motion-suite patch 6: an empty HEARTBEAT (the writer's answer to the first pre-emptive
+  // ACKNACK, possibly stale) does not end the repeats; a sample received does.
+  #[test]
+  fn preemptive_acknack_repeats_after_an_empty_heartbeat() {
+    let dds_cache = Arc::new(RwLock::new(DDSCache::new()));
+    let reliable_qos = QosPolicyBuilder::new()
+      .reliability(Reliability::Reliable {
+        max_blocking_time: Duration::from_millis(100),
+      })
+      .build();
+    let topic_cache_handle = dds_cache.write().unwrap().add_new_topic(
+      "test_name".to_string(),
+      TypeDesc::new("test_type".to_string()),
+      &reliable_qos,
+    );
+    let (notification_sender, _notification_receiver) =
+      crate::mio_source::notification_channel(100);
+    let (_notification_event_source, notification_event_sender) =
+      mio_source::make_poll_channel().unwrap();
+    let (status_sender, _status_receiver) = sync_status_channel::<DataReaderStatus>(4).unwrap();
+    let (participant_status_sender, _participant_status_receiver) =
+      sync_status_channel(16).unwrap();
+    let (_reader_command_sender, reader_command_receiver) =
+      wake_channel::<ReaderCommand>(10, &LoopWaker::new());
+    let mut reader = Reader::new(
+      ReaderIngredients {
+        guid: GUID::dummy_test_guid(EntityKind::READER_NO_KEY_USER_DEFINED),
+        notification_sender,
+        status_sender,
+        topic_name: "test_name".to_string(),
+        topic_cache_handle,
+        like_stateless: false,
+        qos_policy: reliable_qos.clone(),
+        data_reader_command_receiver: reader_command_receiver,
+        data_reader_waker: Arc::new(Mutex::new(None)),
+        poll_event_sender: notification_event_sender,
+        security_plugins: None,
+        discovery_notify: None,
+      },
+      Rc::new(UDPSender::new(0).unwrap()),
+      new_shared_timer(),
+      participant_status_sender,
+    );
+    let writer = GUID::dummy_test_guid(EntityKind::WRITER_NO_KEY_USER_DEFINED);
+    let mr_state = MessageReceiverState {
+      source_guid_prefix: writer.prefix,
+      ..Default::default()
+    };
+    reader.matched_writer_add(
+      writer,
+      EntityId::UNKNOWN,
+      mr_state.unicast_reply_locator_list.to_vec(),
+      mr_state.multicast_reply_locator_list.to_vec(),
+      &reliable_qos,
+    );
+    let sent = |r: &Reader| r.matched_writer(writer).unwrap().sent_ack_nack_count;
+    assert_eq!(sent(&reader), 1, "the pre-emptive ACKNACK on match");
+
+    // The answer says "nothing yet" (first 1, last 0); the reader acknowledges it.
+    let empty = Heartbeat {
+      reader_id: reader.entity_id(),
+      writer_id: writer.entity_id,
+      first_sn: SequenceNumber::new(1),
+      last_sn: SequenceNumber::new(0),
+      count: 1,
+    };
+    reader.handle_heartbeat_msg(&empty, false, &mr_state);
+    let after_hb = sent(&reader);
+    reader.handle_timed_event(TimedEvent::PreemptiveAcknackRepeat { writer, left: 2 });
+    assert_eq!(sent(&reader), after_hb + 1, "repeated after an empty HEARTBEAT");
+
+    // Once a sample has been announced and repaired, the repeats stop.
+    let one = Heartbeat {
+      count: 2,
+      last_sn: SequenceNumber::new(1),
+      ..empty
+    };
+    reader.handle_heartbeat_msg(&one, false, &mr_state);
+    reader.handle_gap_msg(
+      &Gap {
+        reader_id: reader.entity_id(),
+        writer_id: writer.entity_id,
+        gap_start: SequenceNumber::new(1),
+        gap_list: SequenceNumberSet::new_empty(SequenceNumber::new(2)),
+      },
+      &mr_state,
+    );
+    let after_gap = sent(&reader);
+    reader.handle_timed_event(TimedEvent::PreemptiveAcknackRepeat { writer, left: 1 });
+    assert_eq!(sent(&reader), after_gap, "no repeat once sample 1 is accounted for");
   }
 
   #[test]

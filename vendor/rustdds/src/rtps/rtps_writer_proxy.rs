@@ -132,6 +132,14 @@ impl RtpsWriterProxy {
     self.ack_base == SequenceNumber::new(0) && self.changes.is_empty()
   }
 
+  /// motion-suite patch 6: no sample received and none announced as irrelevant. Unlike
+  /// `no_changes_received`, still true after an empty HEARTBEAT (first 1, last 0), which
+  /// a writer may send in answer to our pre-emptive ACKNACK while its first DATA, dropped
+  /// by us before the match, is already on the wire.
+  pub fn nothing_received(&self) -> bool {
+    self.ack_base <= SequenceNumber::new(1) && self.changes.is_empty()
+  }
+
   // Given an availability range from a HEARTBEAT, find out what we are missing.
   //
   // Note: Heartbeat gives bounds only. Some samples within that range may

@@ -722,7 +722,16 @@ mod tests {
     TopicCache::new(
       "Square".to_string(),
       TypeDesc::new("ShapeType".to_string()),
-      &QosPolicyBuilder::new().history(History::KeepAll).build(),
+      // motion-suite patch 3 raised the implicit KeepAll bound; these tests were written
+      // for upstream's 64 samples, so they state it.
+      &QosPolicyBuilder::new()
+        .history(History::KeepAll)
+        .resource_limits(crate::dds::qos::policy::ResourceLimits {
+          max_samples: 64,
+          max_instances: 64,
+          max_samples_per_instance: 64,
+        })
+        .build(),
     )
   }
 
