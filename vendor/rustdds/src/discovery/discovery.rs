@@ -1077,13 +1077,13 @@ impl Discovery {
       //
       // But not to reply to self, because we know that we exist.
       // TODO: Maybe add some rate-limiting to this to avoid packet storms.
-      if guid_prefix != self.domain_participant.guid().prefix {
-        // One-shot quick SPDP response on the shared timer (does not reschedule).
-        self.discovery_timer.borrow_mut().set_timeout(
-          StdDuration::from_millis(10),
-          DiscoveryTimerEvent::SendParticipantInfo { reschedule: false },
-        );
-      }
+      //
+      // motion-suite patch 8: not as a new sample for everybody, 10 ms later. The SPDP
+      // writer now sends its current announcement (same sequence number) to the new
+      // participant only, at the match, before any SEDP traffic to it
+      // (`Writer::update_reader_proxy`). Every new SPDP sample is a participant update
+      // for all the others; a Fast DDS participant busy with our SEDP data then
+      // sometimes lost a publication for good (acknowledged, never matched).
 
       // This may be a rediscovery of a previously seen participant that
       // was temporarily lost due to network outage. Process the SEDP samples

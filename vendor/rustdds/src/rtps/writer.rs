@@ -2042,6 +2042,19 @@ impl Writer {
             local_writer: self.my_guid,
             remote_reader: reader_proxy.remote_reader_guid,
           });
+          // motion-suite patch 8: the quick SPDP response. A newly discovered
+          // participant gets our current announcement at once, unicast, before the
+          // SEDP writers (matched after this one) send it anything; the others see
+          // no new sample (see `Discovery::process_discovered_participant_data`).
+          if self.my_guid.entity_id == EntityId::SPDP_BUILTIN_PARTICIPANT_WRITER {
+            let last = self.send_buffer.last_change_sequence_number();
+            if let (Some(cc), Some(rp)) = (
+              self.send_buffer.get_by_sn(last),
+              self.readers.get(&reader_proxy.remote_reader_guid),
+            ) {
+              self.send_cache_change(&cc, false, Some(rp));
+            }
+          }
           // Reliable: send an initial HEARTBEAT to the newly matched reader so it
           // can request the samples we already hold (repair/late-join). This runs
           // synchronously on the discovery-match event in the event loop, so it
@@ -2837,6 +2850,11 @@ mod tests {
         let (status_sender, status) = sync_status_channel(4).unwrap();
         let (participant_status_sender, participant_status) = sync_status_channel(16).unwrap();
         let timer = new_shared_timer();
+        // A loopback locator is used once packets from that participant were seen there.
+        let mut observations = InterfaceObservations::default();
+        if let Some(addr) = reader_locator.filter(|a| a.ip().is_loopback()) {
+          observations.record(GuidPrefix::new(&[2; 12]), None, addr);
+        }
         let mut writer = Writer::new(
           WriterIngredients {
             guid,
@@ -2850,7 +2868,7 @@ mod tests {
           Rc::new(UDPSender::new(0).unwrap()),
           Rc::clone(&timer),
           participant_status_sender,
-          Rc::new(RefCell::new(InterfaceObservations::default())),
+          Rc::new(RefCell::new(observations)),
           Rc::from(Vec::<IfAddr>::new()),
         );
         let reader_guid = GUID::new(GuidPrefix::new(&[2; 12]), reader_id);
@@ -3032,6 +3050,60 @@ mod tests {
         f.repair_round();
       }
       assert_eq!(f.unsent(), 0);
+    }
+
+    // motion-suite patch 8: the SPDP writer greets a newly matched participant with its
+    // current announcement (same sequence number), unicast, at the match; a SEDP writer
+    // sends a HEARTBEAT only.
+    #[test]
+    fn spdp_writer_sends_its_announcement_to_a_new_participant() {
+      let first_submessages = |writer_id: EntityId, qos: QosPolicies, reader_id: EntityId| {
+        let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        socket
+          .set_read_timeout(Some(StdDuration::from_millis(500)))
+          .unwrap();
+        let _f = Fixture::new(
+          writer_id,
+          qos.clone(),
+          reader_id,
+          &qos,
+          1,
+          100,
+          Some(socket.local_addr().unwrap()),
+        );
+        let mut buf = [0u8; 65536];
+        let n = socket.recv(&mut buf).expect("nothing sent to the new reader");
+        // RTPS header (20 bytes), then submessages: (kind, writer id, SN if DATA).
+        let mut found = Vec::new();
+        let mut i = 20;
+        while i + 4 <= n {
+          let (kind, len) = (buf[i], u16::from_le_bytes([buf[i + 2], buf[i + 3]]) as usize);
+          if kind == 0x15 {
+            let sn = u32::from_le_bytes(buf[i + 20..i + 24].try_into().unwrap());
+            found.push(("DATA", sn));
+          } else if kind == 0x07 {
+            found.push(("HEARTBEAT", 0));
+          }
+          i += 4 + len;
+        }
+        found
+      };
+      assert_eq!(
+        first_submessages(
+          EntityId::SPDP_BUILTIN_PARTICIPANT_WRITER,
+          Discovery::create_spdp_participant_qos(),
+          EntityId::SPDP_BUILTIN_PARTICIPANT_READER,
+        ),
+        vec![("DATA", 1)]
+      );
+      assert_eq!(
+        first_submessages(
+          EntityId::SEDP_BUILTIN_PUBLICATIONS_WRITER,
+          Discovery::builtin_publisher_qos(),
+          EntityId::SEDP_BUILTIN_PUBLICATIONS_READER,
+        ),
+        vec![("HEARTBEAT", 0)]
+      );
     }
 
     // A sample larger than a whole round still goes out, one per round. These
