@@ -24,7 +24,10 @@ nodes:
       x: {max_velocity: 1000.0, acceleration: 10000.0, deceleration: 10000.0, jerk: 100000.0}
 """
 
-TRIALS = int(os.environ.get("FIRST_CALL_TRIALS", "100"))
+# 500 fresh clients take about 2 s. (The Python cyclonedds library itself segfaulted once in
+# about 30 runs of 2000 clients; the runner then fails the test, it does not hang.)
+TRIALS = int(os.environ.get("FIRST_CALL_TRIALS", "500"))
+PARTICIPANT_TRIALS = int(os.environ.get("FIRST_CALL_PARTICIPANTS", "20"))
 LIMIT = 0.100  # [s]
 
 
@@ -74,7 +77,7 @@ class FirstCall(unittest.TestCase):
 
     def test_fresh_participant(self):
         times = []
-        for _ in range(max(TRIALS // 5, 5)):
+        for _ in range(PARTICIPANT_TRIALS):
             times.append(first_call(ros2_peer.Peer(self.domain)))
         self.report("fresh participant", times)
 

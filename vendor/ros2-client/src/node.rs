@@ -55,6 +55,57 @@ pub enum NodeEvent {
   ParticipantEntities(ParticipantEntitiesInfo),
 }
 
+/// motion-suite patch: for each local endpoint and remote participant, how many of
+/// that participant's endpoints it has matched so far (never decreasing), and the
+/// ordinal of each one still matched. A client is one request writer and one reply
+/// reader, created together: the k-th request writer of a participant belongs with its
+/// k-th reply reader, whatever else that participant's clients do meanwhile (a
+/// count of the endpoints matched *now* mistook an old client's reader, whose loss
+/// was not yet processed, for the new client's; its reply was lost).
+#[derive(Default)]
+pub(crate) struct MatchOrdinals {
+  // keyed by the local endpoint and `participant_key` of the remote one
+  total: BTreeMap<(GUID, GUID), u64>,
+  ordinal: BTreeMap<(GUID, GUID), u64>,
+}
+
+/// The remote participant of an endpoint, as a GUID (rustdds does not export the
+/// prefix's type).
+fn participant_key(remote: GUID) -> GUID {
+  GUID::new(remote.prefix, GUID::GUID_UNKNOWN.entity_id)
+}
+
+impl MatchOrdinals {
+  fn matched(&mut self, local: GUID, remote: GUID) {
+    if self.ordinal.contains_key(&(local, remote)) {
+      return; // a repeated event for the same match
+    }
+    let total = self.total.entry((local, participant_key(remote))).or_insert(0);
+    *total += 1;
+    self.ordinal.insert((local, remote), *total);
+  }
+
+  fn lost(&mut self, remote: GUID) {
+    self.ordinal.retain(|(_, r), _| *r != remote);
+  }
+
+  /// How many endpoints of `remote`'s participant `local` has matched so far.
+  pub(crate) fn total(&self, local: GUID, remote: GUID) -> u64 {
+    let key = (local, participant_key(remote));
+    self.total.get(&key).copied().unwrap_or(0)
+  }
+
+  /// The ordinal of `remote` among the endpoints of its participant that `local`
+  /// matched; not yet matched: the next one.
+  pub(crate) fn ordinal(&self, local: GUID, remote: GUID) -> u64 {
+    self
+      .ordinal
+      .get(&(local, remote))
+      .copied()
+      .unwrap_or_else(|| self.total(local, remote) + 1)
+  }
+}
+
 /// Best-effort [`GraphEntity`] for a DDS-matched remote entity.
 ///
 /// DDS SEDP matched-entity events (`RemoteReaderMatched`/`RemoteWriterMatched`/
@@ -127,6 +178,7 @@ pub struct Spinner {
 
   readers_to_remote_writers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
   writers_to_remote_readers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
+  match_ordinals: Arc<Mutex<MatchOrdinals>>,
   // Keep track of ros_discovery_info
   external_nodes: Arc<Mutex<BTreeMap<Gid, Vec<NodeEntitiesInfo>>>>,
   status_event_senders: Arc<Mutex<Vec<async_channel::Sender<NodeEvent>>>>,
@@ -353,6 +405,7 @@ impl Spinner {
           // names).
           let graph_event = match dp_status_event {
             DomainParticipantStatusEvent::RemoteReaderMatched { local_writer, remote_reader } => {
+              self.match_ordinals.lock().unwrap().matched(local_writer, remote_reader);
               self.writers_to_remote_readers.lock().unwrap()
                 .entry(local_writer)
                 .and_modify(|s| {s.insert(remote_reader);} )
@@ -360,6 +413,7 @@ impl Spinner {
               Some(GraphEvent::EntityDeclared(guid_entity(EntityKind::Subscription, remote_reader)))
             }
             DomainParticipantStatusEvent::RemoteWriterMatched { local_reader, remote_writer } => {
+              self.match_ordinals.lock().unwrap().matched(local_reader, remote_writer);
               self.readers_to_remote_writers.lock().unwrap()
                 .entry(local_reader)
                 .and_modify(|s| {s.insert(remote_writer);} )
@@ -367,6 +421,7 @@ impl Spinner {
               Some(GraphEvent::EntityDeclared(guid_entity(EntityKind::Publisher, remote_writer)))
             }
             DomainParticipantStatusEvent::ReaderLost {guid, ..} => {
+              self.match_ordinals.lock().unwrap().lost(guid);
               for readers
               in self.writers_to_remote_readers.lock().unwrap().values_mut() {
                 readers.remove(&guid);
@@ -374,6 +429,7 @@ impl Spinner {
               Some(GraphEvent::EntityUndeclared(guid_entity(EntityKind::Subscription, guid)))
             }
             DomainParticipantStatusEvent::WriterLost {guid, ..} => {
+              self.match_ordinals.lock().unwrap().lost(guid);
               for writers
               in self.readers_to_remote_writers.lock().unwrap().values_mut() {
                 writers.remove(&guid);
@@ -529,6 +585,7 @@ pub struct Node {
   // Map values are lists of matched Publishers / Subscriptions.
   readers_to_remote_writers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
   writers_to_remote_readers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
+  match_ordinals: Arc<Mutex<MatchOrdinals>>,
 
   // Keep track of ros_discovery_info
   external_nodes: Arc<Mutex<BTreeMap<Gid, Vec<NodeEntitiesInfo>>>>,
@@ -584,6 +641,7 @@ impl Node {
       writers: BTreeSet::new(),
       readers_to_remote_writers: Arc::new(Mutex::new(BTreeMap::new())),
       writers_to_remote_readers: Arc::new(Mutex::new(BTreeMap::new())),
+      match_ordinals: Arc::new(Mutex::new(MatchOrdinals::default())),
       external_nodes: Arc::new(Mutex::new(BTreeMap::new())),
       suppress_node_info_updates: false,
       stop_spin_sender: None,
@@ -730,6 +788,7 @@ impl Node {
       stop_spin_receiver,
       readers_to_remote_writers: Arc::clone(&self.readers_to_remote_writers),
       writers_to_remote_readers: Arc::clone(&self.writers_to_remote_readers),
+      match_ordinals: Arc::clone(&self.match_ordinals),
       external_nodes: Arc::clone(&self.external_nodes),
       status_event_senders: Arc::clone(&self.status_event_senders),
       sim_time: Arc::clone(&self.sim_time),
@@ -875,16 +934,10 @@ impl Node {
     }
   }
 
-  /// motion-suite patch: the local writers' matched remote readers (kept by the
-  /// spinner), for servers that must not reply before the requester's reader
-  /// is matched.
-  pub(crate) fn matched_readers_map(&self) -> Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>> {
-    Arc::clone(&self.writers_to_remote_readers)
-  }
-
-  /// motion-suite patch: the local readers' matched remote writers.
-  pub(crate) fn matched_writers_map(&self) -> Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>> {
-    Arc::clone(&self.readers_to_remote_writers)
+  /// motion-suite patch: the order in which remote endpoints were matched (kept by
+  /// the spinner), for servers that must tell which reply reader is a client's.
+  pub(crate) fn match_ordinals(&self) -> Arc<Mutex<MatchOrdinals>> {
+    Arc::clone(&self.match_ordinals)
   }
 
   // reader waits for at least one writer to be present

@@ -10,7 +10,7 @@ use rustdds::{rpc::*, *};
 use log::{debug, error, info, warn};
 use futures::{StreamExt, pin_mut, stream::FusedStream};
 use std::{
-  collections::{BTreeMap, BTreeSet},
+  collections::BTreeMap,
   sync::{Arc, Mutex},
   time::{Duration, Instant},
 };
@@ -19,7 +19,7 @@ use crate::{
   error::{CreateResult, ReadError, ReadResult, WriteError, WriteResult},
   message::Message,
   message_info::MessageInfo,
-  node::Node,
+  node::{MatchOrdinals, Node},
   qos::QosProfile,
   service::*,
 };
@@ -50,31 +50,24 @@ pub const REPLY_MATCH_WAIT: Duration = Duration::from_secs(3);
 /// forgotten (their replies then go out without waiting).
 const MAX_REMEMBERED_REQUESTERS: usize = 16_384;
 
-/// The matches the reply wait looks at: the reply writer's remote readers and
-/// the request reader's remote writers, as the node's spinner keeps them.
+/// The matches the reply wait looks at: the order in which the reply writer matched
+/// remote readers and the request reader remote writers, as the node's spinner keeps
+/// it.
 #[derive(Clone)]
 struct Matches {
-  readers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
-  writers: Arc<Mutex<BTreeMap<GUID, BTreeSet<GUID>>>>,
+  ordinals: Arc<Mutex<MatchOrdinals>>,
   reply_writer: GUID,
   request_reader: GUID,
 }
 
 impl Matches {
-  /// True when the reply writer has matched as many readers of the requester's
-  /// participant as the request reader has matched writers of it: each client
-  /// is one request writer and one reply reader, so the newest client's reader
-  /// is matched too (a participant may hold several clients, old and new).
+  /// True when the reply writer has matched the requester's reply reader: the
+  /// request writer is its participant's k-th (see [`MatchOrdinals`]) and the reply
+  /// writer has matched k readers of that participant.
   fn requester_matched(&self, requester: GUID) -> bool {
-    let count = |map: &Mutex<BTreeMap<GUID, BTreeSet<GUID>>>, local: GUID| {
-      map
-        .lock()
-        .unwrap()
-        .get(&local)
-        .map_or(0, |remote| remote.iter().filter(|r| r.prefix == requester.prefix).count())
-    };
-    let readers = count(&self.readers, self.reply_writer);
-    readers > 0 && readers >= count(&self.writers, self.request_reader)
+    let m = self.ordinals.lock().unwrap();
+    let k = m.ordinal(self.request_reader, requester);
+    m.total(self.reply_writer, requester) >= k
   }
 }
 
@@ -108,8 +101,7 @@ where
     );
 
     let matches = Matches {
-      readers: node.matched_readers_map(),
-      writers: node.matched_writers_map(),
+      ordinals: node.match_ordinals(),
       reply_writer: response_sender.guid(),
       request_reader: request_receiver.guid(),
     };

@@ -485,7 +485,12 @@ impl Writer {
   /// A HEARTBEAT (what we hold, final flag off: answer with an ACKNACK) to one reader.
   fn heartbeat_to_reader(&mut self, reader: GUID) {
     let first = self.send_buffer.first_change_sequence_number();
-    let last = self.send_buffer.last_change_sequence_number();
+    // motion-suite patch 9: announce only what has gone out. A sample written but
+    // not yet sent (it follows in `process_pending`, to this reader too) would be
+    // announced to the new reader before it arrives, and a volatile Cyclone reader
+    // takes everything up to its first HEARTBEAT's last as history: it acknowledges
+    // the sample and drops it (a fresh client's reply, lost).
+    let last = self.send_buffer.last_change_sequence_number().min(self.last_sent);
     let hb_message = MessageBuilder::new()
       .ts_msg(self.endianness, Some(Timestamp::now()))
       .heartbeat_msg(
@@ -3054,9 +3059,10 @@ mod tests {
 
     // motion-suite patch 8: the SPDP writer greets a newly matched participant with its
     // current announcement (same sequence number), unicast, at the match; a SEDP writer
-    // sends a HEARTBEAT only.
+    // sends a HEARTBEAT only. Patch 9: that HEARTBEAT announces only samples already
+    // sent (the fixture's one sample is still pending: last 0, not 1).
     #[test]
-    fn spdp_writer_sends_its_announcement_to_a_new_participant() {
+    fn a_new_participant_gets_the_spdp_announcement_and_a_heartbeat_of_what_was_sent() {
       let first_submessages = |writer_id: EntityId, qos: QosPolicies, reader_id: EntityId| {
         let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
         socket
@@ -3082,7 +3088,8 @@ mod tests {
             let sn = u32::from_le_bytes(buf[i + 20..i + 24].try_into().unwrap());
             found.push(("DATA", sn));
           } else if kind == 0x07 {
-            found.push(("HEARTBEAT", 0));
+            let last = u32::from_le_bytes(buf[i + 24..i + 28].try_into().unwrap());
+            found.push(("HEARTBEAT", last));
           }
           i += 4 + len;
         }
@@ -3102,7 +3109,8 @@ mod tests {
           Discovery::builtin_publisher_qos(),
           EntityId::SEDP_BUILTIN_PUBLICATIONS_READER,
         ),
-        vec![("HEARTBEAT", 0)]
+        vec![("HEARTBEAT", 0)],
+        "a HEARTBEAT to a new reader announcing an unsent sample"
       );
     }
 
