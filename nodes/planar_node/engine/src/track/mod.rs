@@ -2,8 +2,9 @@
 //! on-track motion with gap control, and networks of linked tracks.
 //!
 //! Module map: [`geometry`] (§5.4 segments, transitions, arc length), `gap` (§5.6.3 reach
-//! intervals), `engine_ext` (the engine hooks: track commands, join/leave, MoveOnTrack,
-//! AdoptTrackOrientation, the on-track cycle), `bench` (the benchmark scene).
+//! intervals), `engine_ext` (the engine hooks: track methods and operation modes; its
+//! children `membership` join/leave/AdoptTrackOrientation, `ride` MoveOnTrack, `switches`,
+//! `gear_in`, `cycle` the on-track cycle, `snapshots`), `bench` (the benchmark scene).
 
 pub mod bench;
 mod engine_ext;

@@ -1,0 +1,82 @@
+//! Track and on-track mover snapshots.
+
+use super::*;
+
+impl PlanarEngine {
+    // ------------------------------------------------------------------ snapshots
+
+    pub(crate) fn on_track_snapshot(&self, m: &crate::objects::Mover) -> Option<OnTrackSnapshot> {
+        let tm = m.track.as_ref()?;
+        let t = &self.tracks[tm.track];
+        let s = tm.s();
+        Some(OnTrackSnapshot {
+            track: t.name.clone(),
+            track_oid: t.oid,
+            set_pos: s,
+            set_pos_modulo: if t.geo.closed() {
+                let x = s.rem_euclid(t.length());
+                if t.length() - x < 1e-9 {
+                    0.0
+                } else {
+                    x
+                }
+            } else {
+                s
+            },
+            set_velo: tm.v,
+            set_acc: tm.a,
+            gap: tm.gap,
+            waiting: tm.limited || (tm.plan.is_none() && tm.target != TrackTarget::None),
+            in_sync: tm.gear.as_ref().is_some_and(|g| g.in_sync),
+            gear_master: tm.gear.as_ref().map(|g| match g.master {
+                Master::Mover(j) => self.movers[j].name.clone(),
+                Master::Axis(a) => self.axes[a].name.clone(),
+            }),
+        })
+    }
+
+    pub(crate) fn track_snapshots(&self) -> Vec<TrackSnapshot> {
+        let modes = self.track_modes();
+        self.tracks
+            .iter()
+            .enumerate()
+            .map(|(k, t): (usize, &Track)| TrackSnapshot {
+                name: t.name.clone(),
+                oid: t.oid,
+                state: t.sm.state,
+                operation_mode: modes[k],
+                length: t.length(),
+                closed_loop: t.geo.closed(),
+                mover_count: t.order.len(),
+                movers: t
+                    .order
+                    .iter()
+                    .map(|&j| self.movers[j].name.clone())
+                    .collect(),
+                previous_tracks: t
+                    .prev
+                    .iter()
+                    .map(|&x| self.tracks[x].name.clone())
+                    .collect(),
+                subsequent_tracks: t
+                    .next
+                    .iter()
+                    .map(|&x| self.tracks[x].name.clone())
+                    .collect(),
+                part_oid: t.part_oid,
+                collision_range_start: t.range_start,
+                collision_range_end: t.range_end,
+                collision_range_mode: t.params.range_mode,
+                max_mover_width: t.params.max_mover_width,
+                max_mover_height: t.params.max_mover_height,
+                check_static_collision: t.params.check_static_collision,
+                traversable_subsequent_tracks: t
+                    .next
+                    .iter()
+                    .filter(|&&x| self.traversable(k, x))
+                    .map(|&x| self.tracks[x].name.clone())
+                    .collect(),
+            })
+            .collect()
+    }
+}
