@@ -109,13 +109,12 @@ def test_parameters_list_get_describe_and_refused_set(node):
 
 
 def test_first_call_of_a_fresh_client_is_answered_within_100_ms(node):
-    """A fresh client's first call (issue 12 §4): every one answered, the median within
-    100 ms. Known: some first calls of a fresh Fast DDS client (1 in 40 on an idle machine,
-    up to 2 in 10 under load) still wait for Fast DDS's next heartbeat (3 s) although our
-    reader asks for the request at once (vendor/README.md, RustDDS patch 5)."""
+    """A fresh client's first call (issue 12 §4): every one answered within 100 ms. (Until
+    RustDDS patches 6, 8 and 9, 1 in 40 waited for Fast DDS's next heartbeat, 3 s; after
+    them 380 of 380 were under 31 ms.)"""
     rnode, ex, _ = node
     took = []
-    for _ in range(20):
+    for _ in range(50):
         cli = rnode.create_client(Power, "/axis_node/power")
         assert cli.wait_for_service(timeout_sec=20.0)
         t0 = time.monotonic()
@@ -126,7 +125,7 @@ def test_first_call_of_a_fresh_client_is_answered_within_100_ms(node):
         assert fut.result().error_id == UNKNOWN_OBJECT
         rnode.destroy_client(cli)
     shown = " ".join(f"{t * 1000:.0f}" for t in took)
-    assert sorted(took)[len(took) // 2] < 0.1, "first calls [ms]: " + shown
+    assert max(took) < 0.1, "first calls [ms]: " + shown
     print("first calls [ms]:", shown)
 
 
