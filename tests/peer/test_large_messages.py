@@ -58,7 +58,8 @@ class LargeMessages(unittest.TestCase):
         gc.collect()
 
     @unittest.skipIf(os.environ.get("MOTION_LINK_LOSS"),
-                     "known open issue 12: over a lossy link with this load, about 1 run in 5 a "
+                     "known open issue 12: over a lossy link with this load, about 1 run in 5 "
+                     "(1 in 12 after RustDDS patches 6, 8, 9) a "
                      "1 MB request / 385 kB reply between RustDDS and Cyclone stalls "
                      "(tests/tests/dds_large_messages.rs covers replies up to 1 MB over loss "
                      "between our own participants)")

@@ -58,6 +58,27 @@ pub(crate) fn ev(events: &mut Vec<CommandEvent>, id: CmdId, state: CommandState)
     events.push(CommandEvent { id, state });
 }
 
+/// A motion command of mover `m` takes over: its warning (W_DYNAMICS_REDUCED when the
+/// dynamics had to be reduced), Active, and the reply carrying that warning.
+pub(crate) fn started(
+    events: &mut Vec<CommandEvent>,
+    m: &mut Mover,
+    id: CmdId,
+    reduced: bool,
+) -> Result<PlanarReply, Rejection> {
+    m.warning = if reduced {
+        W_DYNAMICS_REDUCED
+    } else {
+        ErrorId::NONE
+    };
+    ev(events, id, CommandState::Active);
+    Ok(PlanarReply {
+        id,
+        warning_id: m.warning,
+        value: ReplyValue::None,
+    })
+}
+
 pub(crate) fn end(events: &mut Vec<CommandEvent>, slot: &mut Option<CmdId>, state: CommandState) {
     if let Some(id) = slot.take() {
         ev(events, id, state);

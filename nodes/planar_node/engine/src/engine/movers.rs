@@ -85,17 +85,7 @@ impl PlanarEngine {
             Some(r) => ConvexPolygon::hull_of(&r, &swept),
             None => swept,
         });
-        m.warning = if red1 {
-            W_DYNAMICS_REDUCED
-        } else {
-            ErrorId::NONE
-        };
-        ev(ev_, id, CommandState::Active);
-        Ok(PlanarReply {
-            id,
-            warning_id: m.warning,
-            value: ReplyValue::None,
-        })
+        started(ev_, m, id, red1)
     }
 
     pub(crate) fn move_c(
@@ -187,17 +177,7 @@ impl PlanarEngine {
                 _ => CommandMode::CRotationFreeMovement,
             };
         }
-        m.warning = if red {
-            W_DYNAMICS_REDUCED
-        } else {
-            ErrorId::NONE
-        };
-        ev(ev_, id, CommandState::Active);
-        Ok(PlanarReply {
-            id,
-            warning_id: m.warning,
-            value: ReplyValue::None,
-        })
+        started(ev_, m, id, red)
     }
 
     pub(super) fn move_aux(
@@ -243,17 +223,7 @@ impl PlanarEngine {
         end(ev_, slot, CommandState::Aborted);
         ax.start(prof);
         *slot = Some(id);
-        m.warning = if red {
-            W_DYNAMICS_REDUCED
-        } else {
-            ErrorId::NONE
-        };
-        ev(ev_, id, CommandState::Active);
-        Ok(PlanarReply {
-            id,
-            warning_id: m.warning,
-            value: ReplyValue::None,
-        })
+        started(ev_, m, id, red)
     }
 
     /// Plans stops on every moving axis with `dxy`/`dc`/`daux` (Halt, Disable, QuickStop).

@@ -8,7 +8,7 @@ use super::geometry::{GeometryError, TrackPose};
 use super::{GearIn, Master, SyncDirections, Track, TrackMotion, TrackOperationMode, TrackTarget};
 use crate::admission::CommandKind;
 use crate::command::PlanarCommand;
-use crate::engine::{end, ev, traj_err, PlanarEngine};
+use crate::engine::{end, ev, started, traj_err, PlanarEngine};
 use crate::errors::*;
 use crate::geometry::V2;
 use crate::guard::Grid;

@@ -305,17 +305,7 @@ impl PlanarEngine {
         });
         m.xy_cmd = Some(id);
         m.guard_stop = false;
-        m.warning = if reduced {
-            W_DYNAMICS_REDUCED
-        } else {
-            ErrorId::NONE
-        };
-        ev(ev_, id, CommandState::Active);
-        Ok(PlanarReply {
-            id,
-            warning_id: m.warning,
-            value: ReplyValue::None,
-        })
+        started(ev_, m, id, reduced)
     }
 
     /// One cycle of a gear-in: follow the master's path (followMover), compute the target

@@ -181,17 +181,7 @@ impl PlanarEngine {
         tm.since_replan = 0;
         m.xy_cmd = Some(id);
         m.guard_stop = false;
-        m.warning = if reduced {
-            W_DYNAMICS_REDUCED
-        } else {
-            ErrorId::NONE
-        };
-        ev(ev_, id, CommandState::Active);
-        Ok(PlanarReply {
-            id,
-            warning_id: m.warning,
-            value: ReplyValue::None,
-        })
+        started(ev_, m, id, reduced)
     }
 
     /// Shortest route (by length of the tracks passed) from the end of `from` to `to` over
