@@ -57,12 +57,6 @@ class LargeMessages(unittest.TestCase):
         del states, peer
         gc.collect()
 
-    @unittest.skipIf(os.environ.get("MOTION_LINK_LOSS"),
-                     "known open issue 12: over a lossy link with this load, about 1 run in 5 "
-                     "(1 in 12 after RustDDS patches 6, 8, 9) a "
-                     "1 MB request / 385 kB reply between RustDDS and Cyclone stalls "
-                     "(tests/tests/dds_large_messages.rs covers replies up to 1 MB over loss "
-                     "between our own participants)")
     def test_2_long_service_replies(self):
         peer = ros2_peer.Peer(self.domain)
         sb = peer.service("/axis_node/submit_batch", "motion_msgs/srv/SubmitBatch")

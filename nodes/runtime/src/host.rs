@@ -402,8 +402,13 @@ where
         crate::logging::route_to_rosout(&common.name, shell.node.logging_handle());
         let span = crate::logging::node_span(&common.name);
         let _in_node = span.enter();
+        // One `ros_discovery_info` sample for all the endpoints made here, not one per
+        // endpoint: a 1000-axis node sent about 5000 samples of up to 24 kB, which readers
+        // then had repaired for tens of seconds (vendor/README.md, ros2-client patch 7).
+        shell.node.suppress_node_info_updates(true);
         setup(&mut shell)?;
         shell.start_common(events)?;
+        shell.node.suppress_node_info_updates(false);
         tracing::info!(
             kind,
             period = common.cycle_period,

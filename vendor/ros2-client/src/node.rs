@@ -828,7 +828,10 @@ impl Node {
     node_info
   }
 
-  fn suppress_node_info_updates(&mut self, suppress: bool) {
+  /// motion-suite patch: public, so that an application creating many endpoints at once
+  /// publishes one `ros_discovery_info` sample for all of them (`true` before, `false`
+  /// after, which sends it) instead of one per endpoint.
+  pub fn suppress_node_info_updates(&mut self, suppress: bool) {
     self.suppress_node_info_updates = suppress;
 
     // Send updates when suppression ends
