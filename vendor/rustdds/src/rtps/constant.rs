@@ -16,6 +16,21 @@ use crate::{
 
 pub const PREEMPTIVE_ACKNACK_PERIOD: Duration = Duration::from_secs(5);
 
+/// motion-suite patches 6 and 7: after a new match, the first pre-emptive ACKNACK (reader)
+/// or HEARTBEAT (writer) may reach a participant that has not matched us yet and be dropped.
+/// While the other side stays behind, it is repeated this long after the match, then this
+/// long after that (20 and 80 ms after the match).
+pub const NEW_MATCH_REPEATS: [Duration; 2] = [Duration::from_millis(20), Duration::from_millis(60)];
+
+/// The delay of the repeat that leaves `left` (2 or 1) repeats to go, including itself.
+pub fn new_match_repeat_delay(left: u8) -> Duration {
+  if left >= 2 {
+    NEW_MATCH_REPEATS[0]
+  } else {
+    NEW_MATCH_REPEATS[1]
+  }
+}
+
 pub const CACHE_CLEAN_PERIOD: Duration = Duration::from_secs(4);
 
 // RTPS spec Section 8.4.7.1.1 "Default Timing-Related Values" suggests 200 ms,

@@ -75,10 +75,6 @@ pub(crate) enum TimedEvent {
   PreemptiveAcknackRepeat { writer: GUID, left: u8 },
 }
 
-/// motion-suite patch 6: delay of the first repeat of a pre-emptive ACKNACK; each further
-/// repeat waits three times as long (20, 60 ms).
-const PREEMPTIVE_ACKNACK_REPEAT: std::time::Duration = std::time::Duration::from_millis(20);
-
 // Some pieces necessary to construct a reader.
 // These can be sent between threads, whereas a Reader cannot.
 pub(crate) struct ReaderIngredients {
@@ -240,9 +236,8 @@ impl Reader {
   /// motion-suite patch 6: the next repeat of the pre-emptive ACKNACK to `writer` (`left`
   /// repeats to go: the first after 20 ms, the last 60 ms after that).
   fn schedule_preemptive_acknack_repeat(&mut self, writer: GUID, left: u8) {
-    let delay = PREEMPTIVE_ACKNACK_REPEAT * if left >= 2 { 1 } else { 3 };
     self.timed_event_timer.borrow_mut().set_timeout(
-      delay,
+      crate::rtps::constant::new_match_repeat_delay(left),
       DpTimerEvent::Reader {
         entity_id: self.my_guid.entity_id,
         event: TimedEvent::PreemptiveAcknackRepeat { writer, left },

@@ -537,7 +537,7 @@ impl Writer {
           self.heartbeat_to_reader(reader);
           if left > 1 {
             self.schedule_timed_event(
-              std::time::Duration::from_millis(60),
+              crate::rtps::constant::new_match_repeat_delay(left - 1),
               TimedEvent::HeartbeatToNewReader {
                 reader,
                 left: left - 1,
@@ -2074,7 +2074,7 @@ impl Writer {
             self.heartbeat_to_reader(new_reader_guid);
             // motion-suite patch 7: again 20 and 80 ms later while it lags.
             self.schedule_timed_event(
-              std::time::Duration::from_millis(20),
+              crate::rtps::constant::new_match_repeat_delay(2),
               TimedEvent::HeartbeatToNewReader {
                 reader: new_reader_guid,
                 left: 2,
