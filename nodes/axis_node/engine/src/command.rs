@@ -9,7 +9,6 @@ use crate::status::AxisStatus;
 use motion_core::CmdId;
 use serde::{Deserialize, Serialize};
 
-pub(crate) use crate::inputs::raw_enum;
 pub use crate::inputs::*;
 
 /// `ST_MoveOptions` (§5.4).

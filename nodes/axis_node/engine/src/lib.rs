@@ -47,13 +47,13 @@
 //! * Error ids of the platform spec: [`platform::ids`] (1, 4, 4013, 4901…4907, 60241,
 //!   70220, 70225).
 //!
-//! Modules per concept: [`state`] (§2 state machine and admission matrix), [`handshake`]
-//! (§3 Execute handshake), [`buffer`] (§3.6 BufferMode arithmetic), [`params`] (§6 parameter
-//! table), [`modulo`] (§4.8.4), [`superposition`] (§4.9), [`probe`] (§4.5), [`calc`] (§4.7.3,
-//! §4.7.4), `axis` (setpoint generator, monitoring, error reaction), `homing` (§4.10),
-//! `gearing` (§4.12), `torque` (§4.14), `engine` (command screening and FB semantics),
-//! [`config`] (§1.2 defaults), [`group`] (Part 4 groups), [`platform`] (profile hooks,
-//! safety, start-up).
+//! Layers (issue 16): the single axis is its own crate, [`single_axis`] (axis model,
+//! §2 state machine, §3 handshake, BufferMode, parameters, homing, gearing, superposition,
+//! torque, probe, status; it knows nothing of groups, CA or platforms). Its modules are
+//! re-exported here under their old paths ([`state`], [`handshake`], [`buffer`], [`params`],
+//! [`modulo`], [`superposition`], [`probe`], [`calc`], [`config`], ...). This crate adds the FB
+//! calls (`engine`: command screening and FB semantics), [`group`] (Part 4 groups),
+//! [`platform`] (profile hooks, safety, start-up) and [`ca`] (collision avoidance).
 //!
 //! Added later, as child modules of `engine` plugged in at one place (`engine/hooks.rs`):
 //! [`phasing`] (§4.13), [`multi_master`] (MC_GearInMultiMaster, §4.12.4), [`ext_setpoint`]
@@ -76,30 +76,20 @@
 //! effective gap, CA limitation), instance outputs through [`AxisEngine::outputs`] and
 //! [`ca::CaGroups::gear_outputs`]. [`bench_ring`] builds a moving ring for benchmarks.
 
-mod added;
-mod axis;
-pub mod buffer;
 pub mod ca;
-pub mod calc;
 pub mod command;
-pub mod config;
 mod engine;
-pub mod error_ids;
-pub mod extension_inputs;
-mod gearing;
 pub mod group;
-pub mod handshake;
-mod homing;
-pub mod inputs;
-pub mod modulo;
-pub mod params;
 pub mod platform;
-pub mod probe;
 pub mod snapshot;
-pub mod state;
-pub mod status;
-pub mod superposition;
-mod torque;
+
+// The single axis (its own crate, issue 16): re-exported under the paths this crate and its
+// users have always used.
+use single_axis::{added, axis, gearing, homing, torque};
+pub use single_axis::{
+    buffer, calc, config, error_ids, extension_inputs, handshake, inputs, modulo, params, probe,
+    state, status, superposition,
+};
 
 pub use ca::bench::bench_ring;
 pub use command::*;

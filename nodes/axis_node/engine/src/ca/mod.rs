@@ -6,7 +6,7 @@
 //! values and monitoring). Submodules: [`types`] (config, commands, state, error ids),
 //! `admin` (block admission, §4.2 rules, §5), `cycle` (the group cycle: §4.2 transitions, §8.3
 //! order, planner glue), [`planner`] (§8.4–§8.6), `gear` (MC_GearInPosCA, §5.5), [`modulo`]
-//! (§5.2.3), [`geometry`] (§3.4, §5.9), [`bench`] (setups for tests and benchmarks).
+//! (§5.2.3), [`geometry`] (§3.4, §5.9), [`bench`](mod@bench) (setups for tests and benchmarks).
 
 mod admin;
 pub mod bench;

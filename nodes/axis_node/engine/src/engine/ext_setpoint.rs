@@ -233,26 +233,3 @@ impl AxisEngine {
         }
     }
 }
-
-impl Axis {
-    /// Disables the generator; a fed velocity ≠ 0 is stopped with AxisDec/AxisJerk.
-    pub(crate) fn disable_ext_gen(&mut self) {
-        if !std::mem::take(&mut self.ext.ext_gen.enabled) {
-            return;
-        }
-        self.ext.ext_gen.torque_offset = 0.0;
-        if self.set.vel.abs() > 1e-9 || self.set.acc.abs() > 1e-9 {
-            let l = Limits {
-                velocity: self.cfg.max_velocity,
-                acceleration: self.cfg.acceleration,
-                deceleration: self.cfg.deceleration,
-                jerk: self.cfg.jerk,
-            };
-            let profile = self.plan_stop(&l);
-            let stop = profile.end().pos;
-            self.start_job(Job::internal(JobKind::Halt, profile, stop, l));
-        } else {
-            self.set = State1::at_rest(self.set.pos);
-        }
-    }
-}

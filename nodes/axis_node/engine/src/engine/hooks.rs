@@ -53,20 +53,6 @@ pub struct ExtStatus {
     pub masters: Vec<String>,
 }
 
-impl Axis {
-    /// StateDWord bits of the added functions: 14 ExtSetPointGenEnabled, 15 PhasingActive.
-    pub(crate) fn ext_state_bits(&self) -> u32 {
-        let mut w = 0;
-        if self.ext.ext_gen.enabled {
-            w |= 1 << 14;
-        }
-        if self.phasing_active() {
-            w |= 1 << 15;
-        }
-        w
-    }
-}
-
 /// True for the commands of the added FBs (handled by [`AxisEngine::command_axis3`]).
 pub(crate) fn is_axis3(cmd: &AxisCommand) -> bool {
     use AxisCommand as C;

@@ -541,16 +541,3 @@ fn phasing_outputs(j: &PhaseJob, phi: f64) -> ExtraOutputs {
         },
     }
 }
-
-impl Axis {
-    /// Current phasing offset φ (NcToPlc.AbsPhasingPos), 0 when not coupled.
-    pub(crate) fn abs_phasing_pos(&self) -> f64 {
-        self.coupling.map_or(0.0, |c| c.ext.phase.s.pos)
-    }
-
-    /// Status.PhasingActive (StateDWord bit 15): a phasing motion is running.
-    pub(crate) fn phasing_active(&self) -> bool {
-        self.coupling
-            .is_some_and(|c| c.ext.phase.job.is_some_and(|j| !j.reached))
-    }
-}

@@ -501,7 +501,7 @@ pub struct AxisParameterSet {
     pub deceleration_max: f64,
 }
 
-/// Structured reply values of the extension read FBs ([`ReplyValue::Extension`]).
+/// Structured reply values of the extension read FBs (the engine's `ReplyValue::Extension`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ExtensionValue {
     /// MC_ReadDriveOperationMode.DriveOperationMode.

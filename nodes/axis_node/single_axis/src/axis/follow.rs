@@ -1,65 +1,13 @@
-//! Linear master/slave coupling: MC_GearIn / MC_GearOut (single_axis.md §4.12.1, §4.12.3,
-//! §2.5, W10). The slave follows the master's set position (or actual position with
-//! AxisCoupleSlaveToActualValues, 1064) in the same cycle: masters are stepped before their
-//! slaves. `SlavePos = SlavePos(t0) + ratio·(MasterPos − MasterPos(t0))`.
+//! The slave side of a coupling (§4.12): the set point a coupled axis takes from its
+//! master each cycle, coupling and decoupling. The coupling's data are in [`crate::gearing`].
 
-use crate::axis::{Axis, Job, JobKind};
+use super::{Axis, Job, JobKind};
+use crate::gearing::*;
 use motion_core::{Limits, Profile1, State1};
-
-/// An active coupling of this axis as slave.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Coupling {
-    pub master: usize,
-    pub ratio: f64,
-    /// Master position at the coupling instant, in the master's raw coordinates (so that
-    /// MC_SetPosition/homing on the master do not move the slave).
-    pub m0: f64,
-    /// Slave set position at the coupling instant.
-    pub s0: f64,
-    /// MC_GearInDyn: velocity-type coupling with a slewed ratio.
-    pub dynamic: Option<DynCoupling>,
-    /// Phasing offset and MC_GearInMultiMaster data (engine/phasing.rs, multi_master.rs).
-    pub ext: crate::added::CouplingExt,
-}
-
-/// State of an MC_GearInDyn coupling (§4.12.2): `ratio` of [`Coupling`] is r_eff.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct DynCoupling {
-    /// The enabled MC_GearInDyn instance (None after Enable↓: ratio frozen).
-    pub owner: Option<motion_core::CmdId>,
-    /// GearRatio input.
-    pub target: f64,
-    /// Slew rate |dr/dt| = Acceleration / master AxisMaxVelocity \[1/s\].
-    pub rate: f64,
-    /// Master raw position of the previous cycle.
-    pub m_prev: f64,
-}
-
-/// What a slave reads from its master each cycle.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct MasterState {
-    pub set: State1,
-    pub act_pos: f64,
-    pub act_velo: f64,
-    /// The master's coordinate offset (raw = position − offset).
-    pub coord_offset: f64,
-}
-
-impl MasterState {
-    /// What a slave reads from master axis `m`.
-    pub(crate) fn of(m: &Axis) -> Self {
-        MasterState {
-            set: m.set,
-            act_pos: m.act_pos,
-            act_velo: m.act_velo,
-            coord_offset: m.coord_offset,
-        }
-    }
-}
 
 impl Axis {
     /// The master value the coupling uses (set or actual, parameter 1064).
-    pub(crate) fn master_value(&self, m: &MasterState) -> State1 {
+    pub fn master_value(&self, m: &MasterState) -> State1 {
         if self.cfg.couple_slave_to_actual_values {
             State1 {
                 pos: m.act_pos,
@@ -72,7 +20,7 @@ impl Axis {
     }
 
     /// Couples this axis as slave (at standstill).
-    pub(crate) fn couple(&mut self, master: usize, ratio: f64, m: &MasterState) {
+    pub fn couple(&mut self, master: usize, ratio: f64, m: &MasterState) {
         let mv = self.master_value(m);
         self.job = None;
         self.coupling = Some(Coupling {
@@ -87,13 +35,7 @@ impl Axis {
     }
 
     /// Couples (or re-couples) with MC_GearInDyn: velocity-type, starting at `r_eff`.
-    pub(crate) fn couple_dyn(
-        &mut self,
-        master: usize,
-        r_eff: f64,
-        d: DynCoupling,
-        m: &MasterState,
-    ) {
+    pub fn couple_dyn(&mut self, master: usize, r_eff: f64, d: DynCoupling, m: &MasterState) {
         let mv = self.master_value(m);
         self.job = None;
         self.coupling = Some(Coupling {
@@ -111,7 +53,7 @@ impl Axis {
     }
 
     /// Set point of a coupled slave for this cycle.
-    pub(crate) fn follow(
+    pub fn follow(
         &mut self,
         mut c: Coupling,
         m: &MasterState,
@@ -162,7 +104,7 @@ impl Axis {
 
     /// Decouples; a moving slave keeps its velocity for ever (T10, manual warning), a slave
     /// at rest is in Standstill (T10b).
-    pub(crate) fn decouple_keep_velocity(&mut self) {
+    pub fn decouple_keep_velocity(&mut self) {
         if self.coupling.take().is_none() {
             return;
         }
@@ -186,6 +128,18 @@ impl Axis {
             self.start_job(j);
         } else {
             self.set = State1::at_rest(self.set.pos);
+        }
+    }
+}
+
+impl MasterState {
+    /// What a slave reads from master axis `m`.
+    pub fn of(m: &Axis) -> Self {
+        MasterState {
+            set: m.set,
+            act_pos: m.act_pos,
+            act_velo: m.act_velo,
+            coord_offset: m.coord_offset,
         }
     }
 }

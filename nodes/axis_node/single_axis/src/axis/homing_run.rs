@@ -1,49 +1,11 @@
-//! MC_Home homing run (single_axis.md §4.10, W16): the HomingState phases 1→2→3→4→(5)→6→0
-//! with the virtual cam of §1.5 ORed with `bCalibrationCam`.
-//!
-//! Reference modes: PLCCAM (1) = falling cam edge (phase 5 skipped); HARDWARESYNC (2) and
-//! SOFTWARESYNC (5) = first sync pulse after the falling cam edge (pulses at raw positions
-//! that are multiples of `sim.sync_pulse_period`). Latch modes (§4.10 simulator proposal):
-//! HARDWARELATCHPOS (3) / SOFTDRIVELATCHPOS (6) = first rising edge of the virtual probe input
-//! 1 after the falling cam edge (the level set with `sim.probe_input`, or a crossing of one of
-//! `sim.probe_marks`, interpolated to the mark), HARDWARELATCHNEG (4) / SOFTDRIVELATCHNEG (7) =
-//! first falling edge of that input. A level changed between two cycles is latched at the
-//! position of the cycle boundary (the hardware latch of a real drive is exact; the virtual
-//! input is only as fine as the command timing).
+//! The homing run of the axis (§4.10): its phases cycle by cycle. The run's data and the
+//! reference modes are described in [`crate::homing`].
 
-use crate::axis::{Axis, Job, JobKind};
+use super::{Axis, Job, JobKind};
 use crate::error_ids;
 use crate::handshake::Handshake;
-use motion_core::{CmdId, Limits};
-
-/// A running homing run.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Homing {
-    pub owner: CmdId,
-    /// NcToPlc.HomingState (1..6).
-    pub phase: u32,
-    /// Reference position assigned to the reference point.
-    pub position: f64,
-    pub search_dir: f64,
-    pub search_velocity: f64,
-    pub sync_dir: f64,
-    pub sync_velocity: f64,
-    /// E_EncoderReferenceMode actually used (1..7).
-    pub mode: u32,
-    /// bCalibrationCam level as last called.
-    pub cam_input: bool,
-    pub prev_cam: bool,
-    /// Raw position of the previous cycle (for edge interpolation).
-    pub prev_raw: f64,
-    /// Next sync pulse (phase 5), raw.
-    pub pulse: f64,
-    /// Raw position of the reference point.
-    pub ref_raw: f64,
-    /// Raw position at the start (search limit).
-    pub start_raw: f64,
-    /// Homed flag before the run (restored on abort).
-    pub homed_before: bool,
-}
+use crate::homing::*;
+use motion_core::Limits;
 
 impl Axis {
     /// Raw (uncalibrated) actual position (§1.5).
@@ -51,7 +13,8 @@ impl Axis {
         self.act_pos - self.coord_offset
     }
 
-    pub(crate) fn virtual_cam(&self, raw: f64) -> bool {
+    /// Level of the simulated reference cam at raw position `raw` (§1.5).
+    pub fn virtual_cam(&self, raw: f64) -> bool {
         self.cfg
             .home_cam
             .is_some_and(|[lo, hi]| raw >= lo && raw <= hi)
@@ -69,7 +32,7 @@ impl Axis {
     /// Starts an endless homing motion (no FB owner: the MC_Home instance owns the run).
     fn homing_move(&mut self, dir: f64, velocity: f64) {
         let l = self.homing_limits(velocity);
-        if let Some(profile) = self.plan_velocity_free_pub(dir, &l) {
+        if let Some(profile) = self.plan_velocity_free(dir, &l) {
             let mut job = Job::internal(JobKind::Velocity, profile, f64::NAN, l);
             job.dir = dir;
             self.start_job(job);

@@ -1,30 +1,11 @@
-//! MC_TouchProbe / MC_AbortTrigger (single_axis.md §4.5, W19) with the virtual probe inputs
-//! of §1.5: a level per unit set by the client and `sim.probe_marks` (raw positions where a
-//! rising edge occurs when the axis crosses them; the latched position is interpolated to the
-//! exact crossing). `PlcEvent` latches the ActPos of the cycle with the rising edge.
+//! Latching of the armed touch probes (§4.5) each cycle. The latch data are in
+//! [`crate::probe`].
 
-use crate::axis::Axis;
+use super::Axis;
 use crate::handshake::Handshake;
 use crate::inputs::{SignalEdge, TouchProbeMode};
 use crate::modulo::modulo;
-use motion_core::CmdId;
-
-pub use crate::handshake::ProbeOutputs;
-
-/// An armed latch.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Probe {
-    pub owner: CmdId,
-    pub edge: SignalEdge,
-    pub mode: TouchProbeMode,
-    pub window_only: bool,
-    pub first: f64,
-    pub last: f64,
-    pub modulo_positions: bool,
-    /// PlcEvent level (slot 2 only).
-    pub plc_event: bool,
-    pub plc_prev: bool,
-}
+use crate::probe::*;
 
 impl Axis {
     fn in_window(&self, p: &Probe, pos: f64) -> bool {
@@ -85,7 +66,7 @@ impl Axis {
     }
 
     /// One cycle of all armed latches (after the actual values).
-    pub(crate) fn probe_step(&mut self, prev_raw: f64, fbs: &mut Handshake) {
+    pub fn probe_step(&mut self, prev_raw: f64, fbs: &mut Handshake) {
         for k in 0..3 {
             let Some(mut p) = self.probes[k] else {
                 continue;

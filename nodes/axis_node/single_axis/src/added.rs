@@ -10,12 +10,16 @@ use serde::{Deserialize, Serialize};
 
 /// State of the external setpoint generator of one axis.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct ExtGen {
+pub struct ExtGen {
+    /// Enabled by MC_ExtSetPointGenEnable (Status.ExtSetPointGenEnabled).
     pub enabled: bool,
+    /// UseTorqueOffset of the enabling call: fed torques are forwarded as `PlcToNc.ExtTorque`.
     pub use_torque_offset: bool,
     /// Last fed values (`PlcToNc.ExtSetPos/Velo/Acc/Direction`).
     pub fed: State1,
+    /// `PlcToNc.ExtSetDirection` as last fed (−1, 0, 1).
     pub direction: i32,
+    /// At least one value was fed since the generator was enabled (until then it sets nothing).
     pub fed_since_enable: bool,
     /// `PlcToNc.ExtTorque` as forwarded \[%\].
     pub torque_offset: f64,
@@ -23,20 +27,29 @@ pub(crate) struct ExtGen {
 
 /// MC_BacklashCompensation while enabled.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Backlash {
+pub struct Backlash {
+    /// The enabled MC_BacklashCompensation instance.
     pub owner: CmdId,
+    /// Backlash input \[u\].
     pub backlash: f64,
+    /// The backlash is compensated in positive direction (CompensationInPositiveDirection).
     pub positive: bool,
+    /// Ramp of the compensation \[u/s\].
     pub ramp: f64,
 }
 
 /// MC_PositionCorrectionLimiter while enabled.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Limiter {
+pub struct Limiter {
+    /// The enabled MC_PositionCorrectionLimiter instance.
     pub owner: CmdId,
+    /// PositionCorrectionValue input \[u\].
     pub value: f64,
+    /// CorrectionMode (STANDARD or FULLLENGTH).
     pub mode: PositionCorrectionMode,
+    /// Acceleration of the correction (STANDARD) \[u/s²\].
     pub acceleration: f64,
+    /// CorrectionLength over which a change is spread (FULLLENGTH) \[u\].
     pub length: f64,
     /// FULLLENGTH: the change to spread (value − correction when the value last changed).
     pub change: f64,
@@ -44,29 +57,43 @@ pub(crate) struct Limiter {
 
 /// MC_TableBasedPositionCompensation while enabled.
 #[derive(Clone, Debug)]
-pub(crate) struct Table {
+pub struct Table {
+    /// The enabled MC_TableBasedPositionCompensation instance.
     pub owner: CmdId,
+    /// The compensation table (position, compensation value), ascending positions.
     pub table: Vec<PositionCompensationTableElement>,
+    /// Table parameters (minimum and maximum position, modulo, ...).
     pub param: PositionCompensationTableParameter,
+    /// Ramp of the compensation \[u/s\].
     pub ramp: f64,
 }
 
 /// Extension state of one axis.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct ExtState {
+pub struct ExtState {
+    /// Drive operation mode (MC_Read/WriteDriveOperationMode).
     pub drive_mode: DriveOperationMode,
+    /// Torque mode ran since the drive mode was last set (it falls back to position mode after).
     pub torque_seen: bool,
+    /// Control loop index (MC_SelectControlLoop).
     pub control_loop_index: u16,
     /// `[device][output]` images of MC_WriteNcIoOutput.
     pub nc_io: [[u32; 14]; 2],
+    /// MC_BacklashCompensation while enabled.
     pub backlash: Option<Backlash>,
+    /// Current backlash correction \[u\].
     pub backlash_corr: f64,
+    /// MC_PositionCorrectionLimiter while enabled.
     pub limiter: Option<Limiter>,
+    /// Current limited position correction \[u\].
     pub limiter_corr: f64,
+    /// MC_TableBasedPositionCompensation while enabled.
     pub table: Option<Table>,
+    /// Current table correction \[u\].
     pub table_corr: f64,
     /// Last travel direction (sign of the last non-zero set velocity).
     pub last_dir: f64,
+    /// Set position of the previous cycle (the travel per cycle spreads a FULLLENGTH correction) \[u\].
     pub prev_pos: f64,
     /// MC_Write(Bool)ParameterPersistent initialization list, in write order (last wins).
     pub persistent: Vec<(u32, f64)>,
@@ -81,7 +108,7 @@ impl ExtState {
 
 /// `E_PhasingType` (§4.13, §5.3): the three operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum PhasingType {
+pub enum PhasingType {
     /// NC_PHASINGTYPE_ABSOLUTE (1).
     Absolute,
     /// NC_PHASINGTYPE_RELATIVE (2).
@@ -92,18 +119,23 @@ pub(crate) enum PhasingType {
 
 /// The phasing offset of a coupling: φ with its derivatives and the running command.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Phase {
+pub struct Phase {
     /// φ, dφ/dt, d²φ/dt² \[slave u, u/s, u/s²\].
     pub s: State1,
+    /// The running phasing command, if any.
     pub job: Option<PhaseJob>,
 }
 
 /// A running phasing command.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct PhaseJob {
+pub struct PhaseJob {
+    /// The MC_PhasingAbsolute/Relative/HaltPhasing instance.
     pub owner: CmdId,
+    /// Which operation.
     pub ty: PhasingType,
+    /// Jerk-limited profile of φ from the edge (its end is the target phase shift).
     pub profile: Profile1,
+    /// Time since the profile start \[s\].
     pub t: f64,
     /// φ at the edge (CoveredPhaseShift = φ − start).
     pub start: f64,
@@ -135,11 +167,12 @@ pub struct GearInMultiMasterOptions {
     pub sync_mode: GearInMultiMasterSyncMode,
 }
 
-/// A multi-master coupling (on [`Coupling`]`.ext.multi`).
+/// A multi-master coupling (on [`crate::gearing::Coupling`]`.ext.multi`).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Multi {
+pub struct Multi {
     /// The enabled instance (None after Enable↓: ratios frozen).
     pub owner: Option<CmdId>,
+    /// Master axes (indices) of the four master inputs; None = input not connected.
     pub masters: [Option<usize>; 4],
     /// GearRatio inputs.
     pub target: [f64; 4],
@@ -151,17 +184,23 @@ pub(crate) struct Multi {
     pub inputs: [State1; 4],
     /// Raw master positions of the previous cycle and at the coupling instant.
     pub m_prev: [f64; 4],
+    /// Raw master positions at the coupling instant (POSSYNC2).
     pub m0: [f64; 4],
+    /// AdvancedSlaveDynamics latched at Enable↑.
     pub asd: bool,
+    /// SyncMode latched at Enable↑ (only with AdvancedSlaveDynamics).
     pub sync_mode: GearInMultiMasterSyncMode,
     /// Acceleration, Deceleration, Jerk inputs after defaulting.
     pub acc: f64,
+    /// Deceleration of the limiter \[u/s²\].
     pub dec: f64,
+    /// Jerk of the limiter \[u/s³\].
     pub jerk: f64,
     /// Limiter state (slave set state without φ).
     pub ls: State1,
     /// Ideal position (POSSYNC) and whether POSSYNC1 reached velocity sync.
     pub p_star: f64,
+    /// POSSYNC1 has reached velocity synchronism and now tracks `p_star`.
     pub pos_synced: bool,
     /// ASD: synchronous in the last cycle (the slave then follows the ideal motion exactly
     /// while that stays within its acceleration limit; the limiter plans only otherwise).
@@ -172,7 +211,7 @@ pub(crate) struct Multi {
 
 /// Per-axis state of the added FBs (field `ext` of the axis).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct AxisExt {
+pub struct AxisExt {
     /// The running phasing instance (to end it when the coupling goes away).
     pub phasing_owner: Option<CmdId>,
     /// The enabled MC_GearInMultiMaster instance (to end it when decoupled).
@@ -195,7 +234,9 @@ impl AxisExt {
 /// Per-coupling state of the added FBs (field `ext` of a coupling): the phasing offset and
 /// the MC_GearInMultiMaster data.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct CouplingExt {
+pub struct CouplingExt {
+    /// Phasing offset φ (§4.13).
     pub phase: Phase,
+    /// MC_GearInMultiMaster data when the coupling has several masters (§4.12.4).
     pub multi: Option<Multi>,
 }

@@ -2,6 +2,9 @@
 //! single_axis.md §5.3): the vocabulary every layer of the axis engine shares. It owns the
 //! numeric values and their checked conversion; it knows no FB, axis or engine.
 
+/// Declares a manual enumeration with its numeric values and checked conversion (also used by
+/// the engine crate for the enumerations of its own FBs).
+#[macro_export]
 macro_rules! raw_enum {
     ($(#[$m:meta])* $name:ident : $field:literal { $($(#[$vm:meta])* $var:ident = $val:expr),+ $(,)? }) => {
         $(#[$m])*
@@ -28,7 +31,7 @@ macro_rules! raw_enum {
         }
     };
 }
-pub(crate) use raw_enum;
+pub use raw_enum;
 
 raw_enum! {
     /// `MC_BufferMode` (§3.6).

@@ -1,30 +1,12 @@
-//! MC_TorqueControl (single_axis.md §4.14, W14) with the torque model of §1.1:
-//! `dv/dt = k_t·SetTorque − b·v`, velocity clamped to `[VelocityLimitLow, VelocityLimitHigh]`;
-//! SetTorque ramps to Torque at TorqueRamp. InTorque = torque reached and no velocity limit
-//! active.
+//! Torque mode of the axis (§4.14) each cycle. The job's data are in [`crate::torque`].
 
-use crate::axis::Axis;
+use super::Axis;
 use crate::handshake::Handshake;
-use motion_core::{CmdId, State1};
-
-/// A running MC_TorqueControl.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct TorqueJob {
-    pub owner: CmdId,
-    pub continuous_update: bool,
-    /// Target torque \[%\].
-    pub torque: f64,
-    /// Ramp \[%/s\].
-    pub ramp: f64,
-    pub v_high: f64,
-    pub v_low: f64,
-    /// The velocity limit is active in this cycle (DriveLimitActive).
-    pub clamped: bool,
-}
+use motion_core::State1;
 
 impl Axis {
     /// One cycle of torque mode (replaces the setpoint generator).
-    pub(crate) fn torque_step(&mut self, dt: f64, fbs: &mut Handshake) {
+    pub fn torque_step(&mut self, dt: f64, fbs: &mut Handshake) {
         let Some(mut t) = self.torque else { return };
         let step = t.ramp * dt;
         let d = t.torque - self.set_torque;

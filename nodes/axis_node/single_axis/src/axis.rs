@@ -8,13 +8,21 @@ use crate::error_ids;
 use crate::handshake::Handshake;
 use crate::modulo;
 use crate::state::{derive_state, MotionState, StateFacts};
-use crate::status::{axis_state, bits, AxisStatus};
 use motion_core::{CmdId, ErrorId, Limits, Profile1, State1};
 use std::collections::BTreeMap;
 
+// What the axis does per concept, each an `impl Axis` over the data of its leaf module.
+mod added_motion;
+mod follow;
+mod homing_run;
+mod nctoplc;
+mod overlay;
+mod probe_latch;
+mod torque_mode;
+
 /// What the setpoint generator is doing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum JobKind {
+pub enum JobKind {
     /// Discrete move to `target` (MoveAbsolute/Relative/Additive/Modulo).
     Position,
     /// Endless motion (MoveVelocity); also an orphan after an override change.
@@ -29,9 +37,12 @@ pub(crate) enum JobKind {
 
 /// The running job of the setpoint generator.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Job {
+pub struct Job {
+    /// The FB instance that owns the job; None for internal jobs (error reaction, homing runs).
     pub owner: Option<CmdId>,
+    /// What kind of motion (and which stop dynamics apply).
     pub kind: JobKind,
+    /// The jerk-limited profile being run, in profile coordinates.
     pub profile: Profile1,
     /// Time since the profile start \[s\].
     pub t: f64,
@@ -61,37 +72,58 @@ pub(crate) struct Job {
 
 /// A command waiting in the buffer (§3.6: at most one).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Pending {
+pub struct Pending {
+    /// The buffered FB instance.
     pub owner: CmdId,
+    /// Its motion, resolved at admission.
     pub spec: Spec,
 }
 
 /// A motion request, resolved at admission.
 #[derive(Clone, Copy, Debug)]
-pub(crate) enum Spec {
+pub enum Spec {
     /// Move to an absolute target.
     Position {
+        /// Target position \[u\].
         target: f64,
+        /// Dynamics of the move.
         limits: Limits,
+        /// Done waits for the position monitoring (§3.7).
         monitor: bool,
     },
     /// Endless motion in direction `dir`.
-    Velocity { dir: f64, limits: Limits },
+    Velocity {
+        /// Travel direction (±1).
+        dir: f64,
+        /// Dynamics of the move.
+        limits: Limits,
+    },
     /// MC_Halt with the given dynamics.
-    Halt { limits: Limits, monitor: bool },
+    Halt {
+        /// Braking dynamics.
+        limits: Limits,
+        /// Done waits for the position monitoring (§3.7).
+        monitor: bool,
+    },
     /// MC_MoveContinuousAbsolute/Relative: to `target`, arriving with `end_velocity` (≥ 0).
     Continuous {
+        /// Target position \[u\].
         target: f64,
+        /// EndVelocity, ≥ 0 \[u/s\].
         end_velocity: f64,
+        /// Dynamics of the move.
         limits: Limits,
     },
 }
 
 /// The MC_Stop lock (§4.8.10).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Lock {
+pub struct Lock {
+    /// The MC_Stop instance that holds the lock.
     pub owner: CmdId,
+    /// Its Execute input (the lock lasts while it is TRUE).
     pub execute: bool,
+    /// The axis has come to rest.
     pub at_rest: bool,
     /// Options.EnableStopPositionMonitoring: Done waits for InTargetPosition (§3.7).
     pub monitor: bool,
@@ -103,21 +135,28 @@ pub(crate) struct Lock {
 
 /// A finished positioning command waiting for InTargetPosition (§3.7).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Settle {
+pub struct Settle {
+    /// The finished positioning instance.
     pub owner: CmdId,
+    /// Time spent waiting so far \[s\].
     pub elapsed: f64,
 }
 
 /// Runtime state of one axis.
 #[derive(Clone, Debug)]
-pub(crate) struct Axis {
+pub struct Axis {
+    /// Axis name (the key of every command).
     pub name: String,
+    /// Configuration (§1.2 parameters, validated).
     pub cfg: AxisConfig,
     /// Parameters without simulator effect, by NC index offset (§6).
     pub other_params: BTreeMap<u32, f64>,
     // MC_Power (§4.1)
+    /// MC_Power.Enable.
     pub enable: bool,
+    /// MC_Power.Enable_Positive.
     pub enable_positive: bool,
+    /// MC_Power.Enable_Negative.
     pub enable_negative: bool,
     /// Effective override \[%\] (`PlcToNc.Override`).
     pub override_pct: f64,
@@ -129,31 +168,50 @@ pub(crate) struct Axis {
     pub power_error: ErrorId,
     /// MC_SetOverride while enabled (VelFactor × 100) \[%\]; has precedence (§4.7.10).
     pub set_override: Option<f64>,
+    /// The controller is switched on (drive enabled by MC_Power).
     pub controller_on: bool,
+    /// MC_Power.Status: the axis is ready for operation.
     pub status: bool,
+    /// Status follows `controller_on` in the next cycle (the drive answers one cycle late).
     pub status_pending: bool,
+    /// MC_Power Enable fell with a non-Aborting BufferMode while a command moves the axis: the
+    /// controller switches off once that motion has ended.
     pub power_off_pending: bool,
     // Errors (§1.4)
+    /// The axis error (NcToPlc.ErrorCode); NONE when there is none.
     pub error_id: ErrorId,
     /// Reaction class of the MC message that raised `error_id` (plcopen_platform.md §7.2);
     /// 0 = the error is no MC message. A group brakes with it (§5).
     pub error_reaction: u16,
+    /// The error came from the (simulated) drive: Status stays FALSE until MC_Reset (§1.5).
     pub drive_fault: bool,
     // Kinematics
+    /// Set position, velocity and acceleration (NcToPlc.SetPos/SetVelo/SetAcc).
     pub set: State1,
+    /// Actual position (NcToPlc.ActPos) \[u\].
     pub act_pos: f64,
+    /// Actual velocity (NcToPlc.ActVelo) \[u/s\].
     pub act_velo: f64,
+    /// Actual acceleration \[u/s²\].
     pub act_acc: f64,
+    /// Simulated following offset: ActPos = SetPos + offset (the `set_following_offset` hook).
     pub following_offset: f64,
     /// Raw machine position = SetPos − coordinate offset (SetPosition/homing).
     pub coord_offset: f64,
+    /// Sum of the MC_SetPosition shifts since start-up (reported in the state).
     pub set_position_offset: f64,
+    /// The axis is referenced (NcToPlc.StateDWord bit Homed).
     pub homed: bool,
     // Jobs
+    /// The running job of the set-point generator.
     pub job: Option<Job>,
+    /// The buffered command (§3.6: at most one).
     pub pending: Option<Pending>,
+    /// A finished positioning waiting for InTargetPosition (§3.7).
     pub settle: Option<Settle>,
+    /// The MC_Stop lock (§4.8.10).
     pub lock: Option<Lock>,
+    /// An MC_Reset waiting for the axis to come to rest before it is Done.
     pub reset_waiting: Option<CmdId>,
     /// MC_MoveContinuous* that reached its target with EndVelocity 0: Busy/Active with
     /// InEndVelocity until replaced (§4.8.7).
@@ -162,6 +220,7 @@ pub(crate) struct Axis {
     pub probes: [Option<crate::probe::Probe>; 3],
     /// Virtual probe input levels of units 1 and 2 (this and the previous cycle).
     pub probe_level: [bool; 2],
+    /// Probe input levels of the previous cycle.
     pub probe_prev: [bool; 2],
     /// Superposition (MC_MoveSuperImposed).
     pub overlay: Option<crate::superposition::Overlay>,
@@ -173,17 +232,24 @@ pub(crate) struct Axis {
     pub coupling: Option<crate::gearing::Coupling>,
     /// Homing run (MC_Home DefaultHoming).
     pub homing: Option<crate::homing::Homing>,
+    /// Target position of the running or last move (NcToPlc.TargetPos) \[u\].
     pub target_pos: f64,
     /// Last commanded target for MC_MoveAdditive (§4.8.3); None = unknown.
     pub last_target: Option<f64>,
     /// Deceleration and jerk of the last move (MC_Halt/MC_Stop defaults).
     pub last_dec: f64,
+    /// Jerk of the last move \[u/s³\].
     pub last_jerk: f64,
+    /// Command number of the last motion command (NcToPlc.CmdNo).
     pub cmd_no: u16,
+    /// StateDWord HasBeenStopped: MC_Stop has stopped the axis (cleared by the next motion).
     pub has_been_stopped: bool,
     // Monitoring (§1.3)
+    /// Time within the target position window \[s\] (InTargetPosition after the filter time).
     pub in_target_timer: f64,
+    /// InTargetPosition (§1.3).
     pub in_target: bool,
+    /// Time the position lag has been over its limit \[s\] (error after the filter time).
     pub lag_timer: f64,
     /// Driven by a Part 4 group motion (state SynchronizedMotion, plcopen_platform.md §5).
     pub group_motion: bool,
@@ -195,7 +261,7 @@ pub(crate) struct Axis {
 
 /// What enabled software limits do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum TravelLimits {
+pub enum TravelLimits {
     /// Tc2_MC2 (§1.3): targets beyond are refused, endless motions stop exactly at them.
     Planned,
     /// `isg_mcp` linear axes (R-SYS-1): targets beyond are refused; the limits are monitored
@@ -210,6 +276,7 @@ pub(crate) enum TravelLimits {
 const V_REST: f64 = 1e-9;
 
 impl Axis {
+    /// A powered-off axis at rest at position 0 (a Tc2_MC2 axis starts disabled).
     pub fn new(name: String, cfg: AxisConfig) -> Self {
         let p = cfg.initial_position;
         Axis {
@@ -270,6 +337,7 @@ impl Axis {
 
     // ---------------------------------------------------------------- state (§2.3)
 
+    /// The facts the §2 state machine derives the state from.
     pub fn facts(&self) -> StateFacts {
         let kind = self.job.map(|j| j.kind);
         StateFacts {
@@ -286,10 +354,12 @@ impl Axis {
         }
     }
 
+    /// The PLCopen state (§2).
     pub fn state(&self) -> MotionState {
         derive_state(&self.facts())
     }
 
+    /// The set velocity or acceleration is not zero.
     pub fn moving(&self) -> bool {
         self.set.vel.abs() > V_REST || self.set.acc.abs() > V_REST
     }
@@ -361,11 +431,9 @@ impl Axis {
         self.plan_velocity_free(dir, limits).map(|p| (p, None))
     }
 
-    pub(crate) fn plan_velocity_free_pub(&self, dir: f64, limits: &Limits) -> Option<Profile1> {
-        self.plan_velocity_free(dir, limits)
-    }
-
-    fn plan_velocity_free(&self, dir: f64, limits: &Limits) -> Option<Profile1> {
+    /// An endless motion in direction `dir` (±1) at the override-scaled velocity of `limits`,
+    /// from the current set state, ignoring the software limits (homing searches use it).
+    pub fn plan_velocity_free(&self, dir: f64, limits: &Limits) -> Option<Profile1> {
         let v = self.effective_velocity(limits.velocity);
         let l = Limits {
             velocity: limits.velocity.max(self.set.vel.abs()).max(1e-9),
@@ -386,6 +454,7 @@ impl Axis {
         }
     }
 
+    /// A stop from the current set state with the given dynamics (at least the current velocity bound).
     pub fn plan_stop(&self, l: &Limits) -> Profile1 {
         Profile1::stopping(self.job_start_state(), &self.stop_limits(l))
             .unwrap_or_else(|_| Profile1::hold(State1::at_rest(self.set.pos)))
@@ -672,6 +741,7 @@ impl Axis {
         }
     }
 
+    /// The error-reaction dynamics: AxisMaxVelocity with the fast acceleration, deceleration and jerk.
     pub fn fast_limits(&self) -> Limits {
         Limits {
             velocity: self.cfg.max_velocity,
@@ -1007,119 +1077,14 @@ impl Axis {
         self.status = false;
         self.status_pending = false;
     }
-
-    // ---------------------------------------------------------------- status (§5)
-
-    pub fn status(&self) -> AxisStatus {
-        let state = self.state();
-        let has_job = self.job.is_some() || self.torque.is_some();
-        let mut w = 0u32;
-        let mut set = |cond: bool, bit: u32| {
-            if cond {
-                w |= bit
-            }
-        };
-        let moving = self.set.vel.abs() > V_REST;
-        set(
-            self.controller_on && self.status && self.error_id.is_none(),
-            bits::OPERATIONAL,
-        );
-        set(self.homed, bits::HOMED);
-        set(!moving && !has_job, bits::NOT_MOVING);
-        set(
-            !has_job && (self.act_pos - self.target_pos).abs() <= self.cfg.position_range_window,
-            bits::IN_POSITION_AREA,
-        );
-        set(!has_job && self.in_target, bits::IN_TARGET_POSITION);
-        set(self.has_been_stopped, bits::HAS_BEEN_STOPPED);
-        set(self.coupling.is_some(), bits::PROTECTED);
-        set(self.homing.is_some(), bits::HOMING_BUSY);
-        set(self.overlay.is_some(), bits::COMPENSATING);
-        set(has_job, bits::HAS_JOB);
-        set(self.set.vel > V_REST, bits::POSITIVE_DIRECTION);
-        set(self.set.vel < -V_REST, bits::NEGATIVE_DIRECTION);
-        let const_vel = moving && self.set.acc.abs() <= 1e-9;
-        set(const_vel, bits::CONSTANT_VELOCITY);
-        set(
-            self.job
-                .is_some_and(|j| j.kind == JobKind::Velocity || j.continuous),
-            bits::CONTINUOUS_MOTION,
-        );
-        set(self.controller_on && self.status, bits::CONTROL_LOOP_CLOSED);
-        set(self.pending.is_some(), bits::CMD_BUFFERED);
-        set(true, bits::PTP_MODE);
-        set(
-            self.cfg.en_min_soft_pos_limit && self.set.pos < self.cfg.min_soft_pos_limit,
-            bits::SOFT_LIMIT_MIN_EXCEEDED,
-        );
-        set(
-            self.cfg.en_max_soft_pos_limit && self.set.pos > self.cfg.max_soft_pos_limit,
-            bits::SOFT_LIMIT_MAX_EXCEEDED,
-        );
-        set(self.drive_fault, bits::DRIVE_DEVICE_ERROR);
-        set(
-            self.torque.is_some_and(|t| t.clamped),
-            bits::DRIVE_LIMIT_ACTIVE,
-        );
-        set(self.lock.is_some(), bits::MOTION_COMMANDS_LOCKED);
-        set(!self.error_id.is_none(), bits::ERROR);
-        w |= self.ext_state_bits();
-        let ax_state = match self.job {
-            None if self.coupling.is_some() => axis_state::SYNCHRON,
-            None => axis_state::INACTIVE,
-            Some(j) if j.paused && !moving => axis_state::OVERRIDE_ZERO,
-            Some(_) if self.set.acc * self.set.vel > 1e-9 => axis_state::PHASE_ACCPOS,
-            Some(_) if self.set.acc * self.set.vel < -1e-9 => axis_state::PHASE_ACCNEG,
-            Some(_) if moving => axis_state::PHASE_VELOCONST,
-            Some(_) => axis_state::RUNNING,
-        };
-        let jerk = self.job.map_or(0.0, |j| j.profile.jerk_at(j.t));
-        let p = self.cfg.modulo_value;
-        AxisStatus {
-            name: self.name.clone(),
-            motion_state: state,
-            state_dword: w,
-            error_code: self.error_id.0,
-            axis_state: ax_state,
-            couple_state: if self.coupling.is_some() { 3 } else { 0 },
-            set_pos: self.set.pos,
-            set_velo: self.set.vel,
-            set_acc: self.set.acc,
-            set_jerk: jerk,
-            act_pos: self.act_pos,
-            act_velo: self.act_velo,
-            act_acc: self.act_acc,
-            pos_diff: self.set.pos - self.act_pos,
-            target_pos: if self.job.is_some_and(|j| j.kind == JobKind::Velocity) {
-                self.set.pos
-            } else {
-                self.target_pos
-            },
-            modulo_act_pos: modulo::modulo(self.act_pos, p),
-            modulo_act_turns: modulo::turns(self.act_pos, p),
-            modulo_set_pos: modulo::modulo(self.set.pos, p),
-            modulo_set_turns: modulo::turns(self.set.pos, p),
-            override_percent: self.override_pct,
-            power_status: self.status,
-            homed: self.homed,
-            has_job,
-            cmd_buffered: self.pending.is_some(),
-            cmd_no: self.cmd_no,
-            homing_state: self.homing.map_or(0, |h| h.phase),
-            raw_pos: self.set.pos - self.coord_offset,
-            raw_act_pos: self.raw_act(),
-            home_cam: self.virtual_cam(self.raw_act()),
-            set_position_offset: self.set_position_offset,
-            set_torque: self.set_torque,
-            ext: Default::default(),
-        }
-    }
 }
 
 /// How `end_all` ends the commands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum End {
+pub enum End {
+    /// With CommandAborted.
     Aborted,
+    /// With Error and this ErrorID.
     Error(ErrorId),
 }
 
@@ -1147,7 +1112,7 @@ impl Job {
 }
 
 /// Shifts the coordinate system by `delta` (MC_SetPosition, §4.3).
-pub(crate) fn shift_coordinates(a: &mut Axis, delta: f64) {
+pub fn shift_coordinates(a: &mut Axis, delta: f64) {
     a.set.pos += delta;
     a.act_pos += delta;
     a.target_pos += delta;

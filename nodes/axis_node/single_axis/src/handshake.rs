@@ -164,15 +164,21 @@ pub struct FbOutputs {
 }
 
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Instance {
+/// One admitted FB instance and its outputs (§3).
+pub struct Instance {
+    /// The axis (index) the instance commands.
     pub axis: usize,
+    /// Which FB.
     pub kind: FbKind,
+    /// Its state: Busy/Active, or final (Done, CommandAborted, Error).
     pub state: CommandState,
+    /// Its Execute input as last called.
     pub execute: bool,
     /// Cycle in which the final state became visible.
     pub ended_cycle: u64,
     /// Outputs reset by a falling Execute edge.
     pub cleared: bool,
+    /// InVelocity / InGear-type output of the instance.
     pub in_velocity: bool,
     /// MC_Stop: Done while the axis is still locked (Busy and Active stay TRUE).
     pub locked: bool,
@@ -183,7 +189,7 @@ const PRUNE_ABOVE: usize = 4096;
 
 /// The instance table and the event queue.
 #[derive(Debug, Default)]
-pub(crate) struct Handshake {
+pub struct Handshake {
     instances: HashMap<CmdId, Instance>,
     next_id: u64,
     /// Events not yet handed out by `Engine::step`.
@@ -201,6 +207,7 @@ pub(crate) struct Handshake {
 }
 
 impl Handshake {
+    /// No instances; ids start at 1.
     pub fn new() -> Self {
         Handshake {
             instances: HashMap::with_capacity(256),
@@ -255,10 +262,12 @@ impl Handshake {
         id
     }
 
+    /// The instance with this id.
     pub fn get(&self, id: CmdId) -> Option<&Instance> {
         self.instances.get(&id)
     }
 
+    /// The instance with this id, to change its outputs.
     pub fn get_mut(&mut self, id: CmdId) -> Option<&mut Instance> {
         self.instances.get_mut(&id)
     }
@@ -287,12 +296,15 @@ impl Handshake {
     pub fn done(&mut self, id: CmdId) {
         self.set(id, CommandState::Done)
     }
+    /// Ends the instance with CommandAborted.
     pub fn aborted(&mut self, id: CmdId) {
         self.set(id, CommandState::Aborted)
     }
+    /// Ends the instance with Error and this ErrorID.
     pub fn error(&mut self, id: CmdId, e: ErrorId) {
         self.set(id, CommandState::Error(e))
     }
+    /// The instance takes control (Active), e.g. a buffered command starting.
     pub fn active(&mut self, id: CmdId) {
         self.set(id, CommandState::Active)
     }
@@ -342,7 +354,7 @@ impl Handshake {
     }
 }
 
-/// Outputs of the added FBs beyond the standard ones ([`crate::InstanceOutputs::extra`]).
+/// Outputs of the added FBs beyond the standard ones (the engine's `InstanceOutputs::extra`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ExtraOutputs {
     /// MC_Power: Status (axis ready for operation) and Valid (outputs valid: called with
