@@ -834,7 +834,44 @@ pub struct AxisReply {
     pub tracked: bool,
 }
 
+impl From<crate::ca::CaReply> for AxisReply {
+    fn from(r: crate::ca::CaReply) -> Self {
+        AxisReply {
+            id: r.id,
+            value: r
+                .value
+                .map_or(ReplyValue::None, |v| ReplyValue::Ca(Box::new(v))),
+            tracked: r.tracked,
+        }
+    }
+}
+
 impl AxisCommand {
+    /// A plain single-axis motion command: refused on a member of an enabled CA group
+    /// (collision_avoidance.md §4.2).
+    pub fn is_plain_motion(&self) -> bool {
+        use AxisCommand as C;
+        matches!(
+            self,
+            C::MoveAbsolute(_)
+                | C::MoveRelative(_)
+                | C::MoveAdditive(_)
+                | C::MoveModulo(_)
+                | C::MoveVelocity(_)
+                | C::MoveContinuousAbsolute(_)
+                | C::MoveContinuousRelative(_)
+                | C::Halt(_)
+                | C::Stop(_)
+                | C::SetPosition(_)
+                | C::Home(_)
+                | C::Jog(_)
+                | C::GearIn(_)
+                | C::GearInDyn(_)
+                | C::TorqueControl(_)
+                | C::MoveSuperImposed(_)
+        )
+    }
+
     /// The axis the command addresses (None for `SetExecute`).
     pub fn axis(&self) -> Option<&str> {
         use AxisCommand::*;

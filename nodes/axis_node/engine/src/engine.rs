@@ -733,6 +733,7 @@ impl AxisEngine {
                 return self
                     .ca
                     .command(c, &mut self.axes, &self.index, &mut self.fbs)
+                    .map(AxisReply::from)
             }
             AxisCommand::HomeCalibrationCam {
                 id,
@@ -764,7 +765,9 @@ impl AxisEngine {
         // Profile hooks (plcopen_platform.md): screening, then bookkeeping of the result.
         self.platform_pre(ax, &mut cmd)?;
         self.group_screen_axis_command(ax, &cmd)?;
-        self.ca.screen_single_axis(ax, &cmd)?;
+        if cmd.is_plain_motion() {
+            self.ca.screen_single_axis_motion(ax)?;
+        }
         let (order, kind) = crate::platform::classify(&cmd);
         // The FBs of engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs.
         let res = if is_axis3(&cmd) {

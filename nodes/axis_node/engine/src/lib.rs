@@ -76,7 +76,8 @@
 //! effective gap, CA limitation), instance outputs through [`AxisEngine::outputs`] and
 //! [`ca::CaGroups::gear_outputs`]. [`bench_ring`] builds a moving ring for benchmarks.
 
-pub mod ca;
+pub use collision_avoidance as ca;
+pub mod ca_bench;
 pub mod command;
 mod engine;
 pub mod group;
@@ -91,7 +92,7 @@ pub use single_axis::{
     state, status, superposition,
 };
 
-pub use ca::bench::bench_ring;
+pub use ca_bench::bench_ring;
 pub use command::*;
 pub use config::{AxisConfig, FollowingModel};
 pub use engine::{ext_setpoint, extensions, multi_master, phasing};

@@ -54,7 +54,7 @@ fn run_with(seed: u64, mode: DefaultGapControlMode, direction: GapControlDirecti
         .zip(&maxima)
         .enumerate()
         .map(|(i, (n, &(v, a, d, j)))| {
-            let mut c = axis_engine::ca::bench::ca_axis_config(2700.0 - i as f64 * 300.0);
+            let mut c = axis_engine::ca_bench::ca_axis_config(2700.0 - i as f64 * 300.0);
             c.max_velocity = v;
             c.fast_acceleration = a;
             c.fast_deceleration = d;

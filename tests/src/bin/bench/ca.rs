@@ -13,7 +13,7 @@ pub fn step_cost(counts: &[usize], steps: u64) {
         ),
         (
             "dense ring, 150 mm apart",
-            axis_engine::ca::bench::bench_dense_train,
+            axis_engine::ca_bench::bench_dense_train,
         ),
     ] {
         scene_cost(scene, build, counts, steps);

@@ -2,9 +2,9 @@
 //! T = 1 ms, per-cycle invariants (gaps, dynamics) recorded while stepping.
 #![allow(dead_code)]
 
-use axis_engine::ca::bench::{ca_axis_config, ca_engine_with};
 use axis_engine::ca::GroupState;
 use axis_engine::ca::*;
+use axis_engine::ca_bench::{ca_axis_config, ca_engine_with};
 use axis_engine::*;
 use motion_core::{
     CmdId, CommandEvent, CommandState, Engine, ErrorId, ExecuteOutputs, Rejection, Tick,

@@ -7,7 +7,7 @@ impl CaGroups {
 
     /// One cycle of every group (§8.3). Runs before the single-axis step. No alloc in steady
     /// state (scratch vectors are reused), no lock.
-    pub(crate) fn step(&mut self, dt: f64, axes: &mut [Axis], fbs: &mut Handshake) {
+    pub fn step(&mut self, dt: f64, axes: &mut [Axis], fbs: &mut Handshake) {
         for i in 0..self.instant_done.len() {
             let id = self.instant_done[i];
             self.set_state(fbs, id, CommandState::Done);

@@ -1,7 +1,7 @@
 //! Benchmark and test setups: axes with the common settings of collision_avoidance.md §10 and
 //! a moving ring of `n` movers ([`bench_ring`]).
 
-use super::types::*;
+use crate::ca::*;
 use crate::command::{AxisCommand, BufferMode, Power};
 use crate::config::AxisConfig;
 use crate::engine::AxisEngine;

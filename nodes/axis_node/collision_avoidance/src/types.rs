@@ -662,6 +662,17 @@ pub struct GroupReadStatus {
     pub in_position: bool,
 }
 
+/// The answer to an accepted CA block call (the engine turns it into its `AxisReply`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CaReply {
+    /// Identity of the block instance started by this call.
+    pub id: CmdId,
+    /// Value of read/enable blocks.
+    pub value: Option<CaValue>,
+    /// True when the id names a tracked instance whose outputs follow as events.
+    pub tracked: bool,
+}
+
 /// Values of CA read/enable blocks.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum CaValue {

@@ -1,15 +1,19 @@
 //! Collision-avoidance (CA) groups (collision_avoidance.md, TF5410 model).
 //!
-//! A [`CaGroup`] bundles axes of the [`crate::AxisEngine`] that share one rail; every axis keeps
+//! Owns: the CA groups, their blocks (MC_*CA, group administration) and the group cycle that
+//! sets the members' set values. Must not know: the engine that composes it, Part 4 groups,
+//! platform profiles, the ROS shell; it works on [`single_axis`]'s public API (the axes and
+//! the FB handshake it is given).
+//!
+//! A [`CaGroup`] bundles axes (of the engine's axis list) that share one rail; every axis keeps
 //! at least its gap to the axis in front. While a group is enabled it owns the set values of its
 //! members: `CaGroups::step` runs before the single-axis step (which then only derives actual
 //! values and monitoring). Submodules: [`types`] (config, commands, state, error ids),
 //! `admin` (block admission, §4.2 rules, §5), `cycle` (the group cycle: §4.2 transitions, §8.3
 //! order, planner glue), [`planner`] (§8.4–§8.6), `gear` (MC_GearInPosCA, §5.5), [`modulo`]
-//! (§5.2.3), [`geometry`] (§3.4, §5.9), [`bench`](mod@bench) (setups for tests and benchmarks).
+//! (§5.2.3), [`geometry`] (§3.4, §5.9).
 
 mod admin;
-pub mod bench;
 mod cycle;
 pub mod errors;
 mod gear;
@@ -18,13 +22,12 @@ pub mod modulo;
 pub mod planner;
 pub mod types;
 
-use crate::axis::Axis;
-use crate::command::{AxisCommand, AxisReply, ReplyValue};
-use crate::handshake::Handshake;
 use cycle::*;
 use gear::*;
 use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, ExecuteOutputs, Rejection, State1};
 use planner::{stop_point, stop_point_back, Bound, Kin, Lead, StepIn};
+use single_axis::axis::Axis;
+use single_axis::handshake::Handshake;
 use std::collections::HashMap;
 use types::errors as err;
 pub use types::*;
@@ -38,7 +41,7 @@ const PRUNE_ABOVE: usize = 4096;
 /// Jerk used for MC_IGNORE (unlimited jerk of group halt/stop) \[mm/s³\].
 const JERK_UNLIMITED: f64 = 1e15;
 
-/// MC3 dynamics of one axis (§3.2), derived from its [`crate::AxisConfig`]: maxima =
+/// MC3 dynamics of one axis (§3.2), derived from its [`single_axis::AxisConfig`]: maxima =
 /// `max_velocity`, `fast_acceleration`, `fast_deceleration`, `fast_jerk`; defaults =
 /// `acceleration`, `deceleration`, `jerk` (capped at the maxima).
 #[derive(Clone, Copy, Debug)]
@@ -465,31 +468,12 @@ impl CaGroups {
             .ok_or_else(|| Rejection::unknown_object("CA group", name))
     }
 
-    /// True when a plain single-axis motion command on axis `ax` must be refused (§4.2: member
-    /// of a group that is not Disabled/ErrorDisabled).
-    pub(crate) fn screen_single_axis(&self, ax: usize, cmd: &AxisCommand) -> Result<(), Rejection> {
-        use AxisCommand as C;
-        let motion = matches!(
-            cmd,
-            C::MoveAbsolute(_)
-                | C::MoveRelative(_)
-                | C::MoveAdditive(_)
-                | C::MoveModulo(_)
-                | C::MoveVelocity(_)
-                | C::MoveContinuousAbsolute(_)
-                | C::MoveContinuousRelative(_)
-                | C::Halt(_)
-                | C::Stop(_)
-                | C::SetPosition(_)
-                | C::Home(_)
-                | C::Jog(_)
-                | C::GearIn(_)
-                | C::GearInDyn(_)
-                | C::TorqueControl(_)
-                | C::MoveSuperImposed(_)
-        );
+    /// Refuses a plain single-axis motion command on axis `ax` when the axis is a member of a
+    /// group that is not Disabled/ErrorDisabled (§4.2). Which commands are motion commands is
+    /// the caller's (the engine's) knowledge.
+    pub fn screen_single_axis_motion(&self, ax: usize) -> Result<(), Rejection> {
         match self.axis_group.get(&ax) {
-            Some(&g) if motion && self.groups[g].enabled() => Err(rej(
+            Some(&g) if self.groups[g].enabled() => Err(rej(
                 err::NOT_ALLOWED_IN_GROUP_STATE,
                 format!(
                     "axis is a member of the enabled CA group '{}': single-axis motion not allowed",
@@ -513,7 +497,7 @@ impl CaGroups {
     }
 
     /// The published state of every group.
-    pub(crate) fn snapshot(&self, axes: &[Axis]) -> Vec<CaGroupStatus> {
+    pub fn snapshot(&self, axes: &[Axis]) -> Vec<CaGroupStatus> {
         self.groups
             .iter()
             .map(|g| CaGroupStatus {
@@ -608,9 +592,9 @@ impl CaGroups {
     /// from a single-axis job): DiscreteMotion while a CA move/halt runs (or the axis moves),
     /// SynchronizedMotion while coupled by MC_GearInPosCA, HasJob set accordingly. Error and
     /// disabled states of the axis are left as they are.
-    pub(crate) fn patch_status(&self, ax: usize, st: &mut crate::status::AxisStatus) {
-        use crate::state::MotionState;
-        use crate::status::bits;
+    pub fn patch_status(&self, ax: usize, st: &mut single_axis::status::AxisStatus) {
+        use single_axis::state::MotionState;
+        use single_axis::status::bits;
         let Some(&g) = self.axis_group.get(&ax) else {
             return;
         };
@@ -634,14 +618,14 @@ impl CaGroups {
     }
 
     /// True when `id` is a CA block instance.
-    pub(crate) fn owns(&self, id: CmdId) -> bool {
+    pub fn owns(&self, id: CmdId) -> bool {
         self.instances.contains_key(&id)
     }
 
     /// A cancelled goal (§9.3): MC_HaltCA on that axis with the command's deceleration and
     /// jerk; the command ends CommandAborted. A buffered command is just aborted; group
     /// blocks are left alone (their own semantics apply).
-    pub(crate) fn cancel(
+    pub fn cancel(
         &mut self,
         id: CmdId,
         axes: &[Axis],
@@ -715,20 +699,20 @@ impl CaGroups {
         }
     }
 
-    fn admin_reply(&mut self, fbs: &mut Handshake) -> AxisReply {
+    fn admin_reply(&mut self, fbs: &mut Handshake) -> CaReply {
         let id = self.admit(fbs, CaFbKind::Admin, CommandState::Active);
         self.instant_done.push(id);
-        AxisReply {
+        CaReply {
             id,
-            value: ReplyValue::None,
+            value: None,
             tracked: true,
         }
     }
 
-    fn value_reply(fbs: &mut Handshake, v: CaValue) -> AxisReply {
-        AxisReply {
+    fn value_reply(fbs: &mut Handshake, v: CaValue) -> CaReply {
+        CaReply {
             id: fbs.untracked_id(),
-            value: ReplyValue::Ca(Box::new(v)),
+            value: Some(v),
             tracked: false,
         }
     }

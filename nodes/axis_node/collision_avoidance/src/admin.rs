@@ -6,13 +6,13 @@ impl CaGroups {
     // ------------------------------------------------------------------ commands
 
     /// One CA block call.
-    pub(crate) fn command(
+    pub fn command(
         &mut self,
         cmd: CaCommand,
         axes: &mut [Axis],
         index: &HashMap<String, usize>,
         fbs: &mut Handshake,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<CaReply, Rejection> {
         match cmd {
             CaCommand::AddAxisToGroup {
                 group,
@@ -705,7 +705,7 @@ impl CaGroups {
         kind: CaFbKind,
         axes: &[Axis],
         fbs: &mut Handshake,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<CaReply, Rejection> {
         let m = &self.groups[g].members[k];
         let buffered = mode == CaBufferMode::Buffered && m.job.owner().is_some();
         if buffered && m.pending.is_some() {
@@ -735,9 +735,9 @@ impl CaGroups {
                 self.groups[g].state = GroupState::GroupMoving;
             }
         }
-        Ok(AxisReply {
+        Ok(CaReply {
             id,
-            value: ReplyValue::None,
+            value: None,
             tracked: true,
         })
     }
@@ -750,7 +750,7 @@ impl CaGroups {
         stop: bool,
         axes: &[Axis],
         fbs: &mut Handshake,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<CaReply, Rejection> {
         let g = self.group_index(group)?;
         let fb = if stop { "MC_GroupStop" } else { "MC_GroupHalt" };
         use GroupState::*;
@@ -834,9 +834,9 @@ impl CaGroups {
                 gr.state = GroupMoving;
             }
         }
-        Ok(AxisReply {
+        Ok(CaReply {
             id,
-            value: ReplyValue::None,
+            value: None,
             tracked: true,
         })
     }
@@ -849,7 +849,7 @@ impl CaGroups {
         axes: &mut [Axis],
         index: &HashMap<String, usize>,
         fbs: &mut Handshake,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<CaReply, Rejection> {
         let g = self.group_index(group)?;
         self.not_stopping(g, "MC_AddAxisToGroup")?;
         let ax = *index.get(axis).ok_or_else(|| {
