@@ -950,23 +950,7 @@ impl AxisCommand {
     }
 }
 
-// ---- FBs of engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs
-pub use crate::engine::ext_setpoint::{
-    ExtSetPointEnableOptions, ExtSetPointGenDisable, ExtSetPointGenEnable, ExtSetPointGenFeed,
-    ExtSetPointGenFeedWithTorque, PositionType,
-};
-pub use crate::engine::extensions::{
-    AxisComponents, AxisParameterSet, BacklashCompensation, ConvertIncPosToPos, ConvertPosToIncPos,
-    DisableMode, DriveAddress, DriveOperationMode, ExtensionValue, NcIoDevice, NcIoOutput,
-    NcPositionConversionOptions, PositionCompensationTableElement,
-    PositionCompensationTableParameter, PositionCorrectionLimiter, PositionCorrectionMode,
-    ReadAxisComponents, ReadDriveAddress, ReadDriveOperationMode, ReadParameterSet,
-    SelectControlLoop, SelectControlLoopType, SetAcceptBlockedDriveSignal, SetEncoderScalingFactor,
-    SetEncoderScalingOptions, SetScalingFactorMode, TableBasedPositionCompensation, WorkDirection,
-    WriteDriveOperationMode, WriteNcIoOutput,
-};
-pub use crate::engine::hooks::{ExtStatus, ExtraOutputs};
-pub use crate::engine::multi_master::{
-    GearInMultiMaster, GearInMultiMasterOptions, GearInMultiMasterSyncMode,
-};
-pub use crate::engine::phasing::{HaltPhasing, PhasingAbsolute, PhasingRelative, PhasingUpdate};
+// ---- Inputs of the added FBs (single_axis::added_inputs) and of the §4.7 extensions
+pub use crate::extension_inputs::*;
+pub use single_axis::added_inputs::*;
+pub use single_axis::handshake::ExtraOutputs;

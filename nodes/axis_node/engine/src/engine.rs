@@ -33,7 +33,7 @@ pub struct AxisEngine {
     /// Platform profile, safety functions, start-up (plcopen_platform.md §6–§10).
     pub(crate) platform: crate::platform::Platform,
     /// Raw FB layer state (plcopen_platform.md §12.2).
-    pub(crate) raw: crate::platform::raw::Raw,
+    pub(crate) raw: crate::platform::raw_state::Raw,
     /// Instantaneous commands reported Done in the next cycle (§3.1 rule 2).
     instant_done: Vec<CmdId>,
     tick: u64,

@@ -10,6 +10,7 @@
 //! or the ROS shell; they build on this crate's public API.
 
 pub mod added;
+pub mod added_inputs;
 pub mod axis;
 pub mod buffer;
 pub mod calc;

@@ -16,83 +16,11 @@
 //! the generator). An axis error or power off disables the generator.
 //! The feed functions (FUNCTION : BOOL, return value always FALSE) only copy their inputs,
 //! whether the generator is enabled or not; bad input (non-finite, Direction ∉ {−1, 0, 1} →
-//! 0x7F03) is refused. TorqueOffset is forwarded (`PlcToNc.ExtTorque`, [`super::hooks::ExtStatus`])
+//! 0x7F03) is refused. TorqueOffset is forwarded (`PlcToNc.ExtTorque`, [`single_axis::added_inputs::ExtStatus`])
 //! only when the generator was enabled with `Options.UseTorqueOffset`.
 
 use super::*;
 use crate::added::*;
-use serde::{Deserialize, Serialize};
-
-crate::command::raw_enum! {
-    /// `E_PositionType` (§5.3).
-    PositionType: "PositionType" {
-        /// POSITIONTYPE_ABSOLUTE (1).
-        #[default]
-        Absolute = 1,
-        /// POSITIONTYPE_RELATIVE (2).
-        Relative = 2,
-    }
-}
-
-/// `ST_ExtSetPointEnableOptions` (§5.4).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct ExtSetPointEnableOptions {
-    /// UseTorqueOffset: forward TorqueOffset of MC_ExtSetPointGenFeedWithTorque.
-    pub use_torque_offset: bool,
-}
-
-/// MC_ExtSetPointGenEnable (§4.6.1). Reply: the instance (Done next cycle); its extra output
-/// [`super::hooks::ExtraOutputs::ExtSetPointGen`] `enabled` is the live generator state.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ExtSetPointGenEnable {
-    /// Axis name.
-    pub axis: String,
-    /// Position for the target monitoring only \[u\].
-    pub position: f64,
-    /// PositionType.
-    pub position_type: PositionType,
-    /// Options.
-    pub options: ExtSetPointEnableOptions,
-}
-
-/// MC_ExtSetPointGenDisable (§4.6.2).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ExtSetPointGenDisable {
-    /// Axis name.
-    pub axis: String,
-}
-
-/// MC_ExtSetPointGenFeed (§4.6.3, FUNCTION : BOOL): reply `ReplyValue::Bool(false)`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ExtSetPointGenFeed {
-    /// Axis name.
-    pub axis: String,
-    /// Position \[u\].
-    pub position: f64,
-    /// Velocity \[u/s\].
-    pub velocity: f64,
-    /// Acceleration \[u/s²\].
-    pub acceleration: f64,
-    /// Direction: −1 negative, 0 standstill, +1 positive.
-    pub direction: i32,
-}
-
-/// MC_ExtSetPointGenFeedWithTorque (§4.6.4, FUNCTION : BOOL): reply `ReplyValue::Bool(false)`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ExtSetPointGenFeedWithTorque {
-    /// Axis name.
-    pub axis: String,
-    /// Position \[u\].
-    pub position: f64,
-    /// Velocity \[u/s\].
-    pub velocity: f64,
-    /// Acceleration \[u/s²\].
-    pub acceleration: f64,
-    /// Direction: −1, 0, +1.
-    pub direction: i32,
-    /// TorqueOffset (→ `PlcToNc.ExtTorque`) \[%\].
-    pub torque_offset: f64,
-}
 
 impl AxisEngine {
     pub(super) fn ext_set_point_gen_enable(

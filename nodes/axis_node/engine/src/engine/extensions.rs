@@ -13,7 +13,7 @@
 //!   correction is bookkeeping: the closed position loop keeps the corrected actual position
 //!   on the set position (ActPos and the state machine are unchanged) and the correction shows
 //!   as `ActPosWithoutPosCorrection = ActPos − correction` and as the drive set position
-//!   `SetPos − correction` ([`super::hooks::ExtStatus`]). All three need
+//!   `SetPos − correction` ([`single_axis::added_inputs::ExtStatus`]). All three need
 //!   AxisEnablePosCorrection (1046) = TRUE, else 0x4B04 (TwinCAT doc for the backlash FB;
 //!   applied to all three, proposal). They are Enable-type: Enable↑ starts an instance (reply
 //!   id), calls with Enable TRUE update its inputs (same id), Enable↓ ends it (Done, outputs
@@ -36,7 +36,7 @@
 //! * MC_SetAcceptBlockedDriveSignal (§4.7.8, FUNCTION : BOOL, return value always FALSE):
 //!   ControlDWord bit 8; while TRUE the position-lag monitoring raises no error.
 //! * MC_WriteNcIoOutput (§4.7.11): a 32-bit image per device and output,
-//!   `new = (old AND NOT mask) OR (values AND mask)`, published in [`super::hooks::ExtStatus`].
+//!   `new = (old AND NOT mask) OR (values AND mask)`, published in [`single_axis::added_inputs::ExtStatus`].
 //! * MC_ReadParameterSet (§4.4.6), MC_ReadAxisComponents (§4.4.3), MC_ReadDriveAddress (§4.7.6):
 //!   filled from the configuration (one encoder, controller and drive per axis with the axis
 //!   id; NetId 127.0.0.1.1.1, port 0; encoder type Simulation, axis type Continious).

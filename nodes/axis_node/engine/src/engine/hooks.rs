@@ -5,53 +5,8 @@
 //! of these functions ([`ExtStatus`]).
 
 use super::*;
-use serde::{Deserialize, Serialize};
 
 pub use crate::handshake::ExtraOutputs;
-
-/// Status values of the added functions (NCTOPLC / PLCTONC fields not in [`AxisStatus`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ExtStatus {
-    /// NcToPlc.AbsPhasingPos: phasing offset φ \[u\].
-    pub abs_phasing_pos: f64,
-    /// Status.PhasingActive (StateDWord bit 15).
-    pub phasing_active: bool,
-    /// Status.ExtSetPointGenEnabled (StateDWord bit 14).
-    pub ext_set_point_gen_enabled: bool,
-    /// PlcToNc.ExtSetPos/ExtSetVelo/ExtSetAcc as last fed.
-    pub ext_set_pos: f64,
-    /// PlcToNc.ExtSetVelo.
-    pub ext_set_velo: f64,
-    /// PlcToNc.ExtSetAcc.
-    pub ext_set_acc: f64,
-    /// PlcToNc.ExtSetDirection.
-    pub ext_set_direction: i32,
-    /// PlcToNc.ExtTorque (TorqueOffset, only with UseTorqueOffset) \[%\].
-    pub ext_torque: f64,
-    /// Drive operation mode (E_DriveOperationMode).
-    pub drive_operation_mode: crate::engine::extensions::DriveOperationMode,
-    /// Total position correction (backlash + limiter + table) \[u\].
-    pub position_correction: f64,
-    /// NcToPlc.ActPosWithoutPosCorrection \[u\].
-    pub act_pos_without_pos_correction: f64,
-    /// Set position sent to the drive (SetPos − correction) \[u\].
-    pub drive_set_pos: f64,
-    /// Encoder scaling factor \[u/inc\] and offset \[u\].
-    pub encoder_scaling_factor: f64,
-    /// Encoder offset \[u\].
-    pub encoder_offset: f64,
-    /// Encoder counter (32 bit) at the actual position.
-    pub encoder_increments: u32,
-    /// NcToPlc.ActiveControlLoopIndex / ControlLoopIndex.
-    pub control_loop_index: u16,
-    /// ControlDWord bit 8 AcceptBlockedDrive.
-    pub accept_blocked_drive: bool,
-    /// MC_WriteNcIoOutput images: `[device][output]` (Drive, Encoder × nCtrl1..8,
-    /// nDataOut1..6).
-    pub nc_io_outputs: [[u32; 14]; 2],
-    /// Coupled to several masters (MC_GearInMultiMaster): their names.
-    pub masters: Vec<String>,
-}
 
 /// True for the commands of the added FBs (handled by [`AxisEngine::command_axis3`]).
 pub(crate) fn is_axis3(cmd: &AxisCommand) -> bool {

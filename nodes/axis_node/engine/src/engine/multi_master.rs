@@ -34,42 +34,6 @@ use super::*;
 use crate::added::*;
 pub use crate::added::{GearInMultiMasterOptions, GearInMultiMasterSyncMode};
 use crate::gearing::Coupling;
-use serde::{Deserialize, Serialize};
-
-/// MC_GearInMultiMaster (§4.12.4, Enable-type): one call with the current inputs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GearInMultiMaster {
-    /// Slave axis name.
-    pub slave: String,
-    /// Master1 axis name ("" = unused, an empty AXIS_REF).
-    pub master1: String,
-    /// Master2 axis name ("" = unused).
-    pub master2: String,
-    /// Master3 axis name ("" = unused).
-    pub master3: String,
-    /// Master4 axis name ("" = unused).
-    pub master4: String,
-    /// Enable.
-    pub enable: bool,
-    /// GearRatio1 (read every call while Enable).
-    pub gear_ratio1: f64,
-    /// GearRatio2.
-    pub gear_ratio2: f64,
-    /// GearRatio3.
-    pub gear_ratio3: f64,
-    /// GearRatio4.
-    pub gear_ratio4: f64,
-    /// Acceleration (≥ 0; 0 = slave AxisAcc) \[u/s²\].
-    pub acceleration: f64,
-    /// Deceleration (≥ 0; 0 = slave AxisDec; only with AdvancedSlaveDynamics) \[u/s²\].
-    pub deceleration: f64,
-    /// Jerk (≥ 0; 0 = slave AxisJerk; only with AdvancedSlaveDynamics) \[u/s³\].
-    pub jerk: f64,
-    /// BufferMode (not implemented by Tc2_MC2; ignored).
-    pub buffer_mode: BufferMode,
-    /// Options.
-    pub options: GearInMultiMasterOptions,
-}
 
 impl AxisEngine {
     pub(super) fn gear_in_multi_master(

@@ -28,6 +28,7 @@
 mod hooks;
 pub mod ids;
 pub mod raw;
+pub(crate) mod raw_state;
 pub(crate) use hooks::classify;
 
 use motion_core::{CmdId, ErrorId};

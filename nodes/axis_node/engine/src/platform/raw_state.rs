@@ -1,0 +1,125 @@
+//! State of the raw FB layer (plcopen_platform.md §12.2): the FB instances a PLC program
+//! calls, their outputs and the per-axis acknowledgement queues. The layer's behaviour is in
+//! [`super::raw`]; the engine only holds this state.
+
+use crate::command::AxisCommand;
+use motion_core::{CmdId, ErrorId};
+use serde::{Deserialize, Serialize};
+use std::collections::{HashMap, VecDeque};
+
+/// One FB call of a PLC cycle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FbCall {
+    /// Instance name (the PLC's FB instance variable).
+    pub instance: String,
+    /// Execute input.
+    pub execute: bool,
+    /// The FB with its other inputs (including the axis = AXIS_REF).
+    pub fb: AxisCommand,
+}
+
+/// FB-internal state (R-FB-1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FbState {
+    /// FB_IDLE.
+    #[default]
+    Idle,
+    /// FB_ACTIVE: order(s) placed, collecting acknowledgements.
+    Active,
+    /// FB_ERROR: the last order attempt failed.
+    Error,
+}
+
+/// Outputs of a called instance.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FbOut {
+    /// Instance name.
+    pub instance: String,
+    /// Done.
+    pub done: bool,
+    /// Busy.
+    pub busy: bool,
+    /// Active.
+    pub active: bool,
+    /// CommandAborted.
+    pub command_aborted: bool,
+    /// Error.
+    pub error: bool,
+    /// ErrorID.
+    pub error_id: ErrorId,
+    /// InVelocity (MC_MoveVelocity).
+    pub in_velocity: bool,
+    /// Order number (0 = none yet).
+    pub order_id: u32,
+    /// Orders in flight under that number.
+    pub in_flight: u32,
+    /// FB-internal state.
+    pub fb_state: FbState,
+}
+
+/// An acknowledgement posted by the MC (R-HS-5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AckKind {
+    /// The order was taken.
+    Accepted,
+    /// MC_MoveVelocity reached the velocity.
+    InVelocity,
+    /// Finished.
+    Done,
+    /// Aborted by a newer order.
+    Aborted,
+    /// Ended with an error.
+    Error(ErrorId),
+}
+
+/// A warning of the raw layer (4906 clog).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RawWarning {
+    /// Cycle of detection.
+    pub cycle: u64,
+    /// Axis name (the group's name for a group FB's channel).
+    pub axis: String,
+    /// Warning id (4906).
+    pub id: ErrorId,
+    /// Order number of the acknowledgement lying in the slot.
+    pub order_id: u32,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ack {
+    pub(super) owner: usize,
+    pub(super) kind: AckKind,
+    pub(super) posted: u64,
+    pub(super) order_id: u32,
+}
+
+#[derive(Clone, Debug, Default)]
+pub(super) struct Inst {
+    pub(super) name: String,
+    pub(super) axis: usize,
+    pub(super) state: FbState,
+    pub(super) prev_execute: bool,
+    pub(super) order_id: u32,
+    pub(super) in_flight: u32,
+    pub(super) engine: Vec<CmdId>,
+    pub(super) out: FbOut,
+    pub(super) in_velocity_acked: bool,
+    /// FB_RETRY (§4.1): the order that found the slot occupied and the retries left
+    /// (`MAX_RETRIALS`).
+    pub(super) retry: Option<(AxisCommand, u32)>,
+    /// The inputs last sent, for Enable-type FBs with cyclic inputs (§6.2).
+    pub(super) last_inputs: Option<AxisCommand>,
+}
+
+/// Raw-layer state (instances and acknowledgement queues).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Raw {
+    pub(super) instances: Vec<Inst>,
+    pub(super) by_name: HashMap<String, usize>,
+    pub(super) owner_of: HashMap<CmdId, usize>,
+    pub(super) acks: Vec<VecDeque<Ack>>,
+    pub(super) clog_warned: Vec<Option<(usize, u32)>>,
+    pub(super) accepted: Vec<(usize, usize, u32)>,
+    pub(super) cycle: u64,
+    pub(crate) warnings: Vec<RawWarning>,
+}
