@@ -21,7 +21,7 @@
 
 use crate::errors::reject;
 use crate::geometry::{tiles_overlap, ConvexPolygon, STATOR_SIDE, V2};
-use crate::types::Dynamics;
+use crate::types::{DynamicConstraint, Dynamics};
 use motion_core::{ErrorId, Rejection};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashSet};
@@ -293,6 +293,52 @@ pub struct MoverConfig {
 }
 
 impl MoverConfig {
+    /// XY dynamics of a command: its constraint against the XY defaults and maxima (§5.1);
+    /// `reduced` = a value was above its maximum (a warning).
+    pub(crate) fn xy_dynamics(
+        &self,
+        c: &DynamicConstraint,
+        who: &str,
+    ) -> Result<(Dynamics, bool), Rejection> {
+        Dynamics::resolve(
+            &self.default_dynamics,
+            &self.max_dynamics,
+            c,
+            who,
+            "constraint",
+        )
+    }
+
+    /// C dynamics of a command, as [`Self::xy_dynamics`] \[deg\].
+    pub(crate) fn c_dynamics(
+        &self,
+        c: &DynamicConstraint,
+        who: &str,
+    ) -> Result<(Dynamics, bool), Rejection> {
+        Dynamics::resolve(
+            &self.c_default_dynamics,
+            &self.c_max_dynamics,
+            c,
+            who,
+            "constraint",
+        )
+    }
+
+    /// Z/A/B dynamics of a command, as [`Self::xy_dynamics`] \[mm, deg\].
+    pub(crate) fn aux_dynamics(
+        &self,
+        c: &DynamicConstraint,
+        who: &str,
+    ) -> Result<(Dynamics, bool), Rejection> {
+        Dynamics::resolve(
+            &self.aux_default_dynamics,
+            &self.aux_max_dynamics,
+            c,
+            who,
+            "constraint",
+        )
+    }
+
     /// A mover with the spec defaults at (x, y, c).
     pub fn new(name: &str, x: f64, y: f64, c: f64) -> Self {
         MoverConfig {

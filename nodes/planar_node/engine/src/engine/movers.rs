@@ -30,20 +30,8 @@ impl PlanarEngine {
                 ),
             ));
         }
-        let (dxy, red1) = Dynamics::resolve(
-            &m.cfg.default_dynamics,
-            &m.cfg.max_dynamics,
-            &constraint,
-            &who,
-            "constraint",
-        )?;
-        let (dc, _) = Dynamics::resolve(
-            &m.cfg.c_default_dynamics,
-            &m.cfg.c_max_dynamics,
-            &DynamicConstraint::default(),
-            &who,
-            "constraint",
-        )?;
+        let (dxy, red1) = m.cfg.xy_dynamics(&constraint, &who)?;
+        let (dc, _) = m.cfg.c_dynamics(&DynamicConstraint::default(), &who)?;
         // Plan on internal coordinates: subtract relative offsets.
         let off = V2::new(m.offset.pos.x, m.offset.pos.y);
         let c_target = target.c - m.offset.pos.c;
@@ -133,13 +121,7 @@ impl PlanarEngine {
                 format!("{who}: a MoveC leaving the C windows needs XY at rest"),
             ));
         }
-        let (dc, red) = Dynamics::resolve(
-            &m.cfg.c_default_dynamics,
-            &m.cfg.c_max_dynamics,
-            &constraint,
-            &who,
-            "constraint",
-        )?;
+        let (dc, red) = m.cfg.c_dynamics(&constraint, &who)?;
         let prof = m.c.plan_to(abs, &dc).map_err(|e| traj_err(&who, e))?;
         if (abs - now).abs() > 1e-12 || m.c.moving() {
             let end_p = m
@@ -203,13 +185,7 @@ impl PlanarEngine {
                 ),
             ));
         }
-        let (d, red) = Dynamics::resolve(
-            &m.cfg.aux_default_dynamics,
-            &m.cfg.aux_max_dynamics,
-            &constraint,
-            &who,
-            "constraint",
-        )?;
+        let (d, red) = m.cfg.aux_dynamics(&constraint, &who)?;
         let ax = [&m.z, &m.a, &m.b][axis];
         let prof = ax.plan_to(target, &d).map_err(|e| traj_err(&who, e))?;
         let id = self.new_id();
@@ -259,27 +235,9 @@ impl PlanarEngine {
         self.require_enabled(i, "Halt")?;
         self.require_mode(i, CommandKind::Halt, "Halt")?;
         let m = &self.movers[i];
-        let (dxy, _) = Dynamics::resolve(
-            &m.cfg.default_dynamics,
-            &m.cfg.max_dynamics,
-            &constraint,
-            &who,
-            "constraint",
-        )?;
-        let (dc, _) = Dynamics::resolve(
-            &m.cfg.c_default_dynamics,
-            &m.cfg.c_max_dynamics,
-            &DynamicConstraint::default(),
-            &who,
-            "constraint",
-        )?;
-        let (da, _) = Dynamics::resolve(
-            &m.cfg.aux_default_dynamics,
-            &m.cfg.aux_max_dynamics,
-            &DynamicConstraint::default(),
-            &who,
-            "constraint",
-        )?;
+        let (dxy, _) = m.cfg.xy_dynamics(&constraint, &who)?;
+        let (dc, _) = m.cfg.c_dynamics(&DynamicConstraint::default(), &who)?;
+        let (da, _) = m.cfg.aux_dynamics(&DynamicConstraint::default(), &who)?;
         let id = self.new_id();
         let ev_ = &mut self.pending;
         let m = &mut self.movers[i];

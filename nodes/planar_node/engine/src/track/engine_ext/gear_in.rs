@@ -269,13 +269,7 @@ impl PlanarEngine {
             (tm.base, hi)
         };
         let m = &self.movers[i];
-        let (dyn_, reduced) = Dynamics::resolve(
-            &m.cfg.default_dynamics,
-            &m.cfg.max_dynamics,
-            &constraint,
-            &who,
-            "constraint",
-        )?;
+        let (dyn_, reduced) = m.cfg.xy_dynamics(&constraint, &who)?;
         let id = self.new_id();
         let ev_ = &mut self.pending;
         let m = &mut self.movers[i];

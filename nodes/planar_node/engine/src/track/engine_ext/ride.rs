@@ -50,13 +50,7 @@ impl PlanarEngine {
                 format!("{who}: not on a track"),
             ));
         };
-        let (dyn_, reduced) = Dynamics::resolve(
-            &m.cfg.default_dynamics,
-            &m.cfg.max_dynamics,
-            &constraint,
-            &who,
-            "constraint",
-        )?;
+        let (dyn_, reduced) = m.cfg.xy_dynamics(&constraint, &who)?;
         let cur = tm.track;
         let kt = target_track.unwrap_or(cur);
         let modes = self.track_modes();
