@@ -1,5 +1,9 @@
-//! PLCopen single-axis engine (Beckhoff Tc2_MC2), pure and deterministic
-//! (specification: /work/shared/spec/single_axis.md).
+//! The axis node's engine, pure and deterministic: owns the FB calls of the single axis
+//! (screening, admission, FB semantics), PLCopen Part 4 groups, the ISG platform profile and
+//! the composition [`AxisEngine`] of these with the [`single_axis`] and [`collision_avoidance`]
+//! crates. Must not know: DDS, ROS, clocks or threads (the `axis_node` shell does).
+//! Specifications: `single_axis.md`, `collision_avoidance.md`, `plcopen_platform.md`; user
+//! guide: `docs/axis_node.md`.
 //!
 //! [`AxisEngine`] holds a set of named axes and implements [`motion_core::Engine`]:
 //! `command` = one FB call ([`AxisCommand`], one variant per FB), `step` = one NC cycle,
