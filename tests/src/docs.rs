@@ -190,7 +190,7 @@ pub fn generated(root: &Path) -> BTreeMap<&'static str, String> {
     use axis_engine::platform::{AxisPlatformConfig, PlatformConfig};
     let planar = planar_engine::PlanarConfig::default();
     let pp = pickplace_engine::PickPlaceConfig::default();
-    const AXIS_CFG: &str = "nodes/axis_node/engine/src/config.rs";
+    const AXIS_CFG: &str = "nodes/axis_node/single_axis/src/config.rs";
     const PLANAR_CFG: &str = "nodes/planar_node/engine/src/config.rs";
     const PP_CFG: &str = "nodes/pickplace_node/engine/src/config.rs";
     const PP_PAR: &str = "nodes/pickplace_node/engine/src/params.rs";
@@ -250,7 +250,7 @@ pub fn generated(root: &Path) -> BTreeMap<&'static str, String> {
         key_table(
             root,
             &[ks(
-                "nodes/axis_node/engine/src/ca/types.rs",
+                "nodes/axis_node/collision_avoidance/src/types.rs",
                 "CaGroupConfig",
                 "ca_groups.<group>.",
                 yaml(&axis_engine::ca::CaGroupConfig::default()),
@@ -368,11 +368,11 @@ pub fn generated(root: &Path) -> BTreeMap<&'static str, String> {
     );
     m.insert(
         "errors-axis",
-        error_table(root, &["nodes/axis_node/engine/src/error_ids.rs"]),
+        error_table(root, &["nodes/axis_node/single_axis/src/error_ids.rs"]),
     );
     m.insert(
         "errors-axis-ca",
-        error_table(root, &["nodes/axis_node/engine/src/ca/errors.rs"]),
+        error_table(root, &["nodes/axis_node/collision_avoidance/src/errors.rs"]),
     );
     m.insert(
         "errors-axis-platform",

@@ -74,9 +74,11 @@ fn run_peer_test_with(script: &str, domain: u16, loss: Option<u32>) {
         .filter(|l| !l.contains("rustdds") && !l.contains("ros2_client"))
         .collect();
     println!("{}", report.join("\n"));
+    // The exit status tells a failed test (1) from a crashed interpreter (a signal).
     assert!(
         out.status.success(),
-        "{script} failed:\n{}",
+        "{script} failed ({}):\n{}",
+        out.status,
         report.join("\n")
     );
 }
