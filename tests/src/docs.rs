@@ -376,7 +376,7 @@ pub fn generated(root: &Path) -> BTreeMap<&'static str, String> {
     );
     m.insert(
         "errors-axis-platform",
-        error_table(root, &["nodes/axis_node/engine/src/platform/ids.rs"]),
+        error_table(root, &["nodes/axis_node/axis_groups/src/ids.rs"]),
     );
     m.insert(
         "errors-planar",

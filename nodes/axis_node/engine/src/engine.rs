@@ -1106,6 +1106,7 @@ impl Engine for AxisEngine {
 // ---- The FBs' calls by concept: child modules of the engine (its private helpers are
 // theirs too).
 mod coupling;
+mod groups;
 mod home;
 mod jog;
 mod moves;

@@ -1,7 +1,7 @@
 //! The axis node's engine, pure and deterministic: owns the FB calls of the single axis
-//! (screening, admission, FB semantics), PLCopen Part 4 groups, the ISG platform profile and
-//! the composition [`AxisEngine`] of these with the [`single_axis`] and [`collision_avoidance`]
-//! crates. Must not know: DDS, ROS, clocks or threads (the `axis_node` shell does).
+//! (screening, admission, FB semantics), the ISG platform profile and the composition
+//! [`AxisEngine`] of these with the [`single_axis`], [`collision_avoidance`] and [`axis_groups`]
+//! (PLCopen Part 4) crates. Must not know: DDS, ROS, clocks or threads (the `axis_node` shell does).
 //! Specifications: `single_axis.md`, `collision_avoidance.md`, `plcopen_platform.md`; user
 //! guide: `docs/axis_node.md`.
 //!
@@ -56,8 +56,9 @@
 //! torque, probe, status; it knows nothing of groups, CA or platforms). Its modules are
 //! re-exported here under their old paths ([`state`], [`handshake`], [`buffer`], [`params`],
 //! [`modulo`], [`superposition`], [`probe`], [`calc`], [`config`], ...). This crate adds the FB
-//! calls (`engine`: command screening and FB semantics), [`group`] (Part 4 groups),
-//! [`platform`] (profile hooks, safety, start-up) and [`ca`] (collision avoidance).
+//! calls (`engine`: command screening and FB semantics) and [`platform`] (profile hooks,
+//! safety, start-up); [`group`] (Part 4 groups, crate `axis_groups`) and [`ca`] (collision
+//! avoidance, crate `collision_avoidance`) are re-exported.
 //!
 //! Added later, as child modules of `engine` plugged in at one place (`engine/hooks.rs`):
 //! [`phasing`] (§4.13), [`multi_master`] (MC_GearInMultiMaster, §4.12.4), [`ext_setpoint`]
@@ -84,7 +85,7 @@ pub use collision_avoidance as ca;
 pub mod ca_bench;
 pub mod command;
 mod engine;
-pub mod group;
+pub use axis_groups as group;
 pub mod platform;
 pub mod snapshot;
 

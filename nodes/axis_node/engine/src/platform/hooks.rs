@@ -5,8 +5,10 @@
 
 use super::ids::*;
 use super::*;
+use crate::axis::Axis;
 use crate::command::*;
 use crate::engine::AxisEngine;
+use crate::handshake::Handshake;
 use motion_core::{CommandEvent, CommandState, Rejection};
 
 fn reject(id: ErrorId, msg: String) -> Rejection {
@@ -386,23 +388,6 @@ impl AxisEngine {
         }
     }
 
-    /// Velocity cap of an axis from the safety functions \[u/s\]: T1 (R-SAF-5) and
-    /// non-referenced (R-SAF-6); infinite when none applies.
-    pub(crate) fn platform_velocity_cap(&self, ax: usize) -> f64 {
-        if !self.platform.safety() {
-            return f64::INFINITY;
-        }
-        let p = &self.platform.axes[ax];
-        let mut cap = f64::INFINITY;
-        if self.platform.mode == OperatingMode::T1 {
-            cap = cap.min(p.t1_limit());
-        }
-        if !p.referenced {
-            cap = cap.min(p.cfg.vb_not_referenced);
-        }
-        cap
-    }
-
     /// R-SYS-2: on an `isg_mcp` modulo axis that moves, a discrete motion's target lying
     /// behind the stopping point (with the new command's limits) is replaced by the first
     /// equivalent position (same value modulo the period) at or beyond it in the travel
@@ -430,49 +415,14 @@ impl AxisEngine {
 
     /// Records an MC message (§7.2): class > 0 raises the axis error with the reaction.
     pub(crate) fn mc_message(&mut self, ax: usize, error_id: u32, remedy: u16, reaction: u16) {
-        let m = McMessage {
+        self.platform.mc_message(
+            &mut self.axes,
+            &mut self.fbs,
+            ax,
             error_id,
-            cycle: self.platform.cycles,
-            behebungs_klasse: remedy,
-            reaktions_klasse: reaction,
-        };
-        let buf = &mut self.platform.axes[ax].messages;
-        buf.push_front(m);
-        buf.truncate(ERROR_BUFFER_LEN);
-        if remedy > 0 {
-            let a = &mut self.axes[ax];
-            let first = a.error_id.is_none();
-            a.raise_error(ErrorId(error_id), reaction >= 3, &mut self.fbs);
-            if first {
-                a.error_reaction = reaction;
-            }
-            // Reaction class 1: decelerate with the programmed deceleration; class 2: quick
-            // stop with the limit deceleration `a_limit` (R-SYS-1) and the fast jerk; class 3:
-            // brake at once.
-            if (reaction == 1 || reaction == 2) && a.moving() {
-                let (d, jerk) = match reaction {
-                    1 => (a.last_dec, a.last_jerk),
-                    _ => (
-                        self.platform.axes[ax].a_limit(a.cfg.fast_deceleration),
-                        a.cfg.fast_jerk,
-                    ),
-                };
-                let l = motion_core::Limits {
-                    velocity: a.cfg.max_velocity,
-                    acceleration: d,
-                    deceleration: d,
-                    jerk,
-                };
-                let profile = a.plan_stop(&l);
-                let stop = profile.end().pos;
-                a.start_job(crate::axis::Job::internal(
-                    crate::axis::JobKind::FastStop,
-                    profile,
-                    stop,
-                    l,
-                ));
-            }
-        }
+            remedy,
+            reaction,
+        );
     }
 
     /// Safety and simulation services (§8, §12.1).
@@ -859,4 +809,147 @@ pub(crate) fn classify(cmd: &AxisCommand) -> (bool, PostKind) {
         _ => PostKind::Other,
     };
     (places_order(cmd), kind)
+}
+
+/// The groups' view of the platform profile (crate `axis_groups`): ISG ids and outputs,
+/// feed hold, safety caps and the safety checks of group orders.
+impl crate::group::GroupProfile for Platform {
+    fn isg(&self) -> bool {
+        Platform::isg(self)
+    }
+
+    fn feed_hold(&self) -> bool {
+        Platform::feed_hold(self)
+    }
+
+    fn velocity_cap(&self, ax: usize) -> f64 {
+        Platform::velocity_cap(self, ax)
+    }
+
+    /// R-SAF-1a/R-SAF-6 for a group order: absolute group moves need referenced members
+    /// (4903); a member's programmed velocity `v · |u_i|` above its monitoring limit raises
+    /// MC error 60241 on that axis (the FB shows ErrorID 1, the group goes to
+    /// GROUP_ERROR_STOP).
+    fn check_group_motion(
+        &mut self,
+        axes: &mut [Axis],
+        fbs: &mut Handshake,
+        group: &str,
+        fb: &str,
+        members: &[usize],
+        absolute: bool,
+        dir: &[f64],
+        velocity: f64,
+    ) -> Result<(), Rejection> {
+        if !self.safety() {
+            return Ok(());
+        }
+        for &ax in members {
+            if absolute && !self.axes[ax].referenced {
+                return Err(Rejection::new(
+                    ERR_SIM_AXIS_NOT_REFERENCED,
+                    format!(
+                        "group '{group}': {fb} needs referenced members; axis '{}' is not (R-SAF-6)",
+                        axes[ax].name
+                    ),
+                ));
+            }
+        }
+        for (k, &ax) in members.iter().enumerate() {
+            let cap = self.velocity_cap(ax);
+            let v = velocity.min(if dir[k].abs() > 1e-12 {
+                cap / dir[k].abs()
+            } else {
+                f64::INFINITY
+            }) * dir[k].abs();
+            let p = &self.axes[ax];
+            if p.velocity_lease == 0 && v > p.velocity_limit() {
+                let limit = p.velocity_limit();
+                self.mc_message(axes, fbs, ax, MC_PROGRAMMED_VELOCITY_EXCEEDS_LIMIT.0, 1, 1);
+                return Err(Rejection::new(
+                    ERR_PLC_AX_MC,
+                    format!(
+                        "group '{group}': {fb}: MC error 60241 on axis '{}': programmed velocity {v} exceeds the monitoring limit {limit} (R-SAF-1)",
+                        axes[ax].name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Platform {
+    /// Records an MC message (§7.2): class > 0 raises the axis error with the reaction.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn mc_message(
+        &mut self,
+        axes: &mut [Axis],
+        fbs: &mut Handshake,
+        ax: usize,
+        error_id: u32,
+        remedy: u16,
+        reaction: u16,
+    ) {
+        let m = McMessage {
+            error_id,
+            cycle: self.cycles,
+            behebungs_klasse: remedy,
+            reaktions_klasse: reaction,
+        };
+        let buf = &mut self.axes[ax].messages;
+        buf.push_front(m);
+        buf.truncate(ERROR_BUFFER_LEN);
+        if remedy > 0 {
+            let a = &mut axes[ax];
+            let first = a.error_id.is_none();
+            a.raise_error(ErrorId(error_id), reaction >= 3, fbs);
+            if first {
+                a.error_reaction = reaction;
+            }
+            // Reaction class 1: decelerate with the programmed deceleration; class 2: quick
+            // stop with the limit deceleration `a_limit` (R-SYS-1) and the fast jerk; class 3:
+            // brake at once.
+            if (reaction == 1 || reaction == 2) && a.moving() {
+                let (d, jerk) = match reaction {
+                    1 => (a.last_dec, a.last_jerk),
+                    _ => (
+                        self.axes[ax].a_limit(a.cfg.fast_deceleration),
+                        a.cfg.fast_jerk,
+                    ),
+                };
+                let l = motion_core::Limits {
+                    velocity: a.cfg.max_velocity,
+                    acceleration: d,
+                    deceleration: d,
+                    jerk,
+                };
+                let profile = a.plan_stop(&l);
+                let stop = profile.end().pos;
+                a.start_job(crate::axis::Job::internal(
+                    crate::axis::JobKind::FastStop,
+                    profile,
+                    stop,
+                    l,
+                ));
+            }
+        }
+    }
+
+    /// Velocity cap of an axis from the safety functions \[u/s\]: T1 (R-SAF-5) and
+    /// non-referenced (R-SAF-6); infinite when none applies.
+    pub(crate) fn velocity_cap(&self, ax: usize) -> f64 {
+        if !self.safety() {
+            return f64::INFINITY;
+        }
+        let p = &self.axes[ax];
+        let mut cap = f64::INFINITY;
+        if self.mode == OperatingMode::T1 {
+            cap = cap.min(p.t1_limit());
+        }
+        if !p.referenced {
+            cap = cap.min(p.cfg.vb_not_referenced);
+        }
+        cap
+    }
 }

@@ -26,7 +26,7 @@
 //! override of 0 (path-true for groups); overrides written during the hold apply after it.
 
 mod hooks;
-pub mod ids;
+pub use axis_groups::ids;
 pub mod raw;
 pub(crate) mod raw_state;
 pub(crate) use hooks::classify;

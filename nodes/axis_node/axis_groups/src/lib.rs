@@ -1,4 +1,9 @@
-//! PLCopen Part 4 axis groups (plcopen_platform.md §3.2, §5), profile-independent.
+//! PLCopen Part 4 axis groups (plcopen_platform.md §3.2, §5).
+//!
+//! Owns: the groups, their FB instances and their path motion ([`GroupCx`] runs the FBs and
+//! the group cycle on the axes it is given). Must not know: the engine that composes it, CA
+//! groups, the ROS shell; where a platform profile changes the behaviour (ISG error ids and
+//! latched outputs, safety caps, feed hold), it asks its [`GroupProfile`].
 //!
 //! A group is an ordered set of member axes (by IdentInGroup). Group motions are straight
 //! lines in axis space: one jerk-limited 1-DOF [`Profile1`] over the path length `s`, each
@@ -16,13 +21,15 @@
 //! deceleration) and then starts the new line (no blending, TMNone).
 
 pub mod command;
-mod glue;
+mod fbs;
+pub mod ids;
 pub mod state;
 
-use crate::axis::Axis;
-use crate::handshake::Handshake;
+use motion_core::Rejection;
 use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, ExecuteOutputs, Limits, Profile1};
 use serde::Deserialize;
+use single_axis::axis::Axis;
+use single_axis::handshake::Handshake;
 use std::collections::{HashMap, VecDeque};
 
 pub use command::*;
@@ -61,18 +68,24 @@ pub enum GroupFbKind {
 
 /// An admitted Execute-type instance of a group FB.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct GroupInstance {
+pub struct GroupInstance {
+    /// The group (index) the instance commands.
     pub group: usize,
+    /// Which FB.
     pub kind: GroupFbKind,
+    /// Its state: Busy/Active, or final.
     pub state: CommandState,
+    /// Its Execute input as last called.
     pub execute: bool,
+    /// Cycle in which the final state became visible.
     pub ended_cycle: u64,
+    /// Outputs reset by a falling Execute edge.
     pub cleared: bool,
 }
 
 /// What the path job does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum PathKind {
+pub enum PathKind {
     /// MoveLinear*/MovePath.
     Move,
     /// MC_GroupHalt ramp.
@@ -85,17 +98,23 @@ pub(crate) enum PathKind {
 
 /// Requested path dynamics (0 = the largest the members allow).
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Dyn {
+pub struct Dyn {
+    /// Path velocity \[u/s\].
     pub velocity: f64,
+    /// Path acceleration \[u/s²\].
     pub acceleration: f64,
+    /// Path deceleration \[u/s²\].
     pub deceleration: f64,
+    /// Path jerk \[u/s³\].
     pub jerk: f64,
 }
 
 /// The running group motion.
 #[derive(Clone, Debug)]
-pub(crate) struct PathJob {
+pub struct PathJob {
+    /// The FB instance that owns the job; None for the error reaction.
     pub owner: Option<CmdId>,
+    /// What the job does.
     pub kind: PathKind,
     /// Start point of the current segment (one value per member).
     pub start: Vec<f64>,
@@ -103,7 +122,9 @@ pub(crate) struct PathJob {
     pub dir: Vec<f64>,
     /// Profile over the path coordinate s (0 at `start`).
     pub profile: Profile1,
+    /// Time since the profile start \[s\].
     pub t: f64,
+    /// The dynamics of the command (a stop that takes over keeps them).
     pub dynamics: Dyn,
     /// Absolute targets still to reach after this segment (rest between them).
     pub queue: VecDeque<Vec<f64>>,
@@ -115,25 +136,35 @@ pub(crate) struct PathJob {
 
 /// MC_GroupStop lock.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct GroupLock {
+pub struct GroupLock {
+    /// The MC_GroupStop instance that holds the lock.
     pub owner: CmdId,
+    /// Its Execute input (the lock lasts while it is TRUE).
     pub execute: bool,
+    /// Done has been reported.
     pub done: bool,
 }
 
 /// Runtime state of one group.
 #[derive(Clone, Debug)]
-pub(crate) struct Group {
+pub struct Group {
+    /// Group name.
     pub name: String,
     /// (IdentInGroup, axis index), sorted by IdentInGroup.
     pub members: Vec<(u32, usize)>,
     /// MC_GroupDisable (cleared by MCV_GroupEnable).
     pub disabled: bool,
+    /// GroupErrorID: the group error (latched until MC_GrpReset).
     pub error: ErrorId,
+    /// The running path motion.
     pub job: Option<PathJob>,
+    /// The MC_GroupStop lock.
     pub lock: Option<GroupLock>,
+    /// MC_GroupSetOverride VelFactor (1 = 100 %).
     pub override_factor: f64,
+    /// MC_GroupSetOverride is enabled.
     pub override_enabled: bool,
+    /// The path of MC_PathSelect (one point per member per entry).
     pub path: Vec<Vec<f64>>,
     /// Feed hold of R-SAF-5 (T1/T2 without enabling switch + START): path-true stop, the
     /// move stays active.
@@ -142,6 +173,7 @@ pub(crate) struct Group {
     pub slot: bool,
     /// Path velocity/acceleration of the last cycle (status).
     pub path_vel: f64,
+    /// Path acceleration of the last cycle (status).
     pub path_acc: f64,
 }
 
@@ -173,10 +205,12 @@ impl Group {
         }
     }
 
+    /// Member axis indices in IdentInGroup order.
     pub fn axes(&self) -> impl Iterator<Item = usize> + '_ {
         self.members.iter().map(|m| m.1)
     }
 
+    /// The facts the group state is derived from.
     pub fn facts(&self, axes: &[Axis]) -> state::GroupFacts {
         let enabled = !self.disabled
             && !self.members.is_empty()
@@ -189,6 +223,7 @@ impl Group {
         }
     }
 
+    /// The group state (plcopen_platform.md §5).
     pub fn state(&self, axes: &[Axis]) -> GroupState {
         derive_group_state(&self.facts(axes))
     }
@@ -196,11 +231,14 @@ impl Group {
 
 /// All groups, their FB instances and the axis → group map.
 #[derive(Debug, Default)]
-pub(crate) struct Groups {
+pub struct Groups {
+    /// Groups in configuration order.
     pub list: Vec<Group>,
+    /// Group name → index in `list`.
     pub index: HashMap<String, usize>,
     /// Group of each axis (Part 4 membership; one group per axis).
     pub of_axis: Vec<Option<usize>>,
+    /// Admitted Execute-type instances of group FBs.
     pub instances: HashMap<CmdId, GroupInstance>,
     /// Instances reported Done in the next step.
     pub instant_done: Vec<CmdId>,
@@ -239,7 +277,7 @@ impl Groups {
 }
 
 /// Path limits along unit direction `dir` (module doc). `velocity` None = no FB bound.
-pub(crate) fn path_limits(axes: &[Axis], members: &[usize], dir: &[f64], d: &Dyn) -> Limits {
+pub fn path_limits(axes: &[Axis], members: &[usize], dir: &[f64], d: &Dyn) -> Limits {
     let or_inf = |x: f64| if x > 0.0 { x } else { f64::INFINITY };
     let mut l = Limits {
         velocity: or_inf(d.velocity),
@@ -269,4 +307,55 @@ pub(crate) fn path_limits(axes: &[Axis], members: &[usize], dir: &[f64], d: &Dyn
         }
     }
     l
+}
+
+/// What a platform profile decides for the groups (implemented by the engine's platform).
+pub trait GroupProfile {
+    /// The ISG profile is active: its error ids, latched outputs (R-HS-2) and FB catalogue.
+    fn isg(&self) -> bool;
+    /// A feed hold is in effect (R-SAF-5): paths stop path-true and stay active.
+    fn feed_hold(&self) -> bool;
+    /// Velocity cap of axis `ax` from the profile's safety functions \[u/s\] (infinite: none).
+    fn velocity_cap(&self, ax: usize) -> f64;
+    /// The profile's safety checks of a group motion order before it is admitted (R-SAF-1a,
+    /// R-SAF-6): `dir` is the unit direction over `members`, `velocity` the path velocity. A
+    /// refusal may raise an MC error on a member (in `axes`, reported through `fbs`).
+    #[allow(clippy::too_many_arguments)]
+    fn check_group_motion(
+        &mut self,
+        axes: &mut [Axis],
+        fbs: &mut Handshake,
+        group: &str,
+        fb: &str,
+        members: &[usize],
+        absolute: bool,
+        dir: &[f64],
+        velocity: f64,
+    ) -> Result<(), Rejection>;
+}
+
+/// What one Part 4 FB call or group cycle works on: the groups, the axes and FB handshake of
+/// the engine, the axis name index and the profile.
+pub struct GroupCx<'a> {
+    /// The groups.
+    pub groups: &'a mut Groups,
+    /// Every axis of the engine (members are indices into it).
+    pub axes: &'a mut [Axis],
+    /// Axis name → index.
+    pub index: &'a HashMap<String, usize>,
+    /// The FB handshake (instance ids, events).
+    pub fbs: &'a mut Handshake,
+    /// The platform profile.
+    pub profile: &'a mut dyn GroupProfile,
+}
+
+/// The answer to an accepted group FB call (the engine turns it into its `AxisReply`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GroupCallReply {
+    /// Identity of the FB instance started by this call.
+    pub id: CmdId,
+    /// Value of read FBs.
+    pub value: Option<GroupReply>,
+    /// True when the id names a tracked instance whose outputs follow as events.
+    pub tracked: bool,
 }

@@ -4,10 +4,10 @@
 //! an Enable-type/read FB with its current inputs). Groups and axes are addressed by their
 //! configured names; position arrays are ordered by IdentInGroup (the group's member order).
 
-use crate::command::BufferMode;
-use crate::group::GroupState;
+use crate::GroupState;
 use motion_core::{ErrorId, Rejection};
 use serde::{Deserialize, Serialize};
+use single_axis::inputs::BufferMode;
 
 /// `MC_CoordSystem`: no kinematic transformation is implemented (MC_SetKinTransform* is not
 /// offered), so ACS = MCS = PCS.

@@ -1,12 +1,12 @@
-//! Part 4 FB semantics on the engine: screening, admission, the path jobs and their cycle.
+//! Part 4 FB semantics: screening, admission, the path jobs and their cycle, on the axes a
+//! [`GroupCx`] gives them.
 
 use super::*;
-use crate::axis::{Job, JobKind};
-use crate::command::{AxisReply, BufferMode, ReplyValue};
-use crate::engine::AxisEngine;
-use crate::error_ids::SOFT_LIMIT_TARGET;
-use crate::platform::ids::*;
-use motion_core::{Rejection, State1};
+use crate::ids::*;
+use motion_core::State1;
+use single_axis::axis::{Job, JobKind};
+use single_axis::error_ids::SOFT_LIMIT_TARGET;
+use single_axis::inputs::BufferMode;
 
 fn reject(id: ErrorId, msg: String) -> Rejection {
     Rejection::new(id, msg)
@@ -79,19 +79,15 @@ fn only_aborting(group: &str, fb: &str, m: BufferMode) -> Result<(), Rejection> 
 
 const V_REST: f64 = 1e-9;
 
-impl AxisEngine {
+impl GroupCx<'_> {
     fn group_index(&self, name: &str) -> Result<usize, Rejection> {
-        self.groups
-            .index
-            .get(name)
-            .copied()
-            .ok_or_else(|| Rejection::unknown_object("group", name))
+        self.groups.index_of(name)
     }
 
-    fn group_untracked(&mut self, value: ReplyValue) -> AxisReply {
-        AxisReply {
+    fn group_untracked(&mut self, value: GroupReply) -> GroupCallReply {
+        GroupCallReply {
             id: self.fbs.untracked_id(),
-            value,
+            value: Some(value),
             tracked: false,
         }
     }
@@ -103,7 +99,7 @@ impl AxisEngine {
         name: &str,
     ) -> Result<GroupAdmission, Rejection> {
         let grp = &self.groups.list[g];
-        let state = grp.state(&self.axes);
+        let state = grp.state(self.axes);
         match group_admission(fb, state) {
             GroupAdmission::Reject(id) => Err(reject(
                 id,
@@ -145,16 +141,16 @@ impl AxisEngine {
         id
     }
 
-    fn group_tracked(id: CmdId) -> AxisReply {
-        AxisReply {
+    fn group_tracked(id: CmdId) -> GroupCallReply {
+        GroupCallReply {
             id,
-            value: ReplyValue::None,
+            value: None,
             tracked: true,
         }
     }
 
     /// An administrative FB: applied at once, Done in the next cycle.
-    fn group_admin_done(&mut self, g: usize) -> AxisReply {
+    fn group_admin_done(&mut self, g: usize) -> GroupCallReply {
         let id = self.group_instance(g, GroupFbKind::Administrative, CommandState::Busy);
         self.groups.instant_done.push(id);
         Self::group_tracked(id)
@@ -174,7 +170,7 @@ impl AxisEngine {
     }
 
     /// One Part 4 FB call.
-    pub(crate) fn group_command(&mut self, cmd: GroupCommand) -> Result<AxisReply, Rejection> {
+    pub fn group_command(&mut self, cmd: GroupCommand) -> Result<GroupCallReply, Rejection> {
         let g = self.group_index(cmd.group())?;
         let gname = self.groups.list[g].name.clone();
         match cmd {
@@ -261,7 +257,7 @@ impl AxisEngine {
                         format!("IdentInGroup = {ident_in_group} is not a member"),
                     ));
                 }
-                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Configuration(list))))
+                Ok(self.group_untracked(GroupReply::Configuration(list)))
             }
             GroupCommand::GroupEnable { .. } => {
                 self.group_admit(g, GroupFbClass::Enable, "MCV_GroupEnable")?;
@@ -276,40 +272,29 @@ impl AxisEngine {
                 grp.error = ErrorId::NONE;
                 Ok(self.group_admin_done(g))
             }
-            GroupCommand::GroupReset { .. } => {
-                self.group_admit(g, GroupFbClass::Reset, "MC_GrpReset")?;
-                // Member axes in ErrorStop are reset with them (MC_Reset each; in isg_mcp
-                // their MC message buffers are cleared too, R-ERR-3).
-                for ax in self.members(g) {
-                    if !self.axes[ax].error_id.is_none() {
-                        self.reset(ax)?;
-                        if self.platform.isg() {
-                            self.platform.axes[ax].messages.clear();
-                        }
-                    }
-                }
-                let id = self.group_instance(g, GroupFbKind::GroupReset, CommandState::Busy);
-                self.groups.list[g].error = ErrorId::NONE;
-                self.groups.instant_done.push(id);
-                Ok(Self::group_tracked(id))
-            }
+            // MC_GrpReset resets the members in ErrorStop with MC_Reset, which the engine
+            // owns: it goes through `admit_reset`, the members' MC_Reset and `finish_reset`.
+            GroupCommand::GroupReset { .. } => Err(reject(
+                ERR_SIM_NOT_IMPLEMENTED,
+                format!("group '{gname}': MC_GrpReset is composed by the engine (GroupCx::admit_reset, the members' MC_Reset, GroupCx::finish_reset)"),
+            )),
             GroupCommand::GroupReadStatus { .. } => {
-                let s = self.group_status(g);
-                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Status(Box::new(s)))))
+                let s = self.groups.status(g, self.axes);
+                Ok(self.group_untracked(GroupReply::Status(Box::new(s))))
             }
             GroupCommand::GroupReadError { .. } => {
                 let e = self.groups.list[g].error;
-                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Error(e))))
+                Ok(self.group_untracked(GroupReply::Error(e)))
             }
             GroupCommand::GroupReadActualPosition { .. } => {
                 let v = self.groups.list[g]
                     .axes()
                     .map(|i| self.axes[i].act_pos)
                     .collect();
-                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Values(v))))
+                Ok(self.group_untracked(GroupReply::Values(v)))
             }
             GroupCommand::GroupReadActualVelocity { .. } => {
-                if self.platform.isg() {
+                if self.profile.isg() {
                     return Err(reject(
                         ERR_SIM_NOT_IMPLEMENTED,
                         format!("group '{gname}': MC_GroupReadActualVelocity is not implemented by the ISG platform (§3.2)"),
@@ -319,7 +304,7 @@ impl AxisEngine {
                     .axes()
                     .map(|i| self.axes[i].act_velo)
                     .collect();
-                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Values(v))))
+                Ok(self.group_untracked(GroupReply::Values(v)))
             }
             GroupCommand::GroupSetOverride(c) => {
                 let fb = "MC_GroupSetOverride";
@@ -344,7 +329,7 @@ impl AxisEngine {
                     self.groups.list[g].override_enabled = false;
                 }
                 let en = self.groups.list[g].override_enabled;
-                Ok(self.group_untracked(ReplyValue::Group(GroupReply::Enabled(en))))
+                Ok(self.group_untracked(GroupReply::Enabled(en)))
             }
             GroupCommand::MoveLinearAbsolute(c) => self.move_linear(g, c, false),
             GroupCommand::MoveLinearRelative(c) => self.move_linear(g, c, true),
@@ -382,7 +367,7 @@ impl AxisEngine {
                         Some(CommandState::Aborted)
                     };
                     if let Some(s) = st {
-                        self.groups.set(&mut self.fbs, l.owner, s);
+                        self.groups.set(self.fbs, l.owner, s);
                     }
                 }
                 self.groups.list[g].lock = Some(GroupLock {
@@ -449,6 +434,27 @@ impl AxisEngine {
         }
     }
 
+    /// MC_GrpReset, first half: the group admits it; returns the members in ErrorStop, which
+    /// the caller resets with MC_Reset (in isg_mcp their MC message buffers are cleared too,
+    /// R-ERR-3) before [`Self::finish_reset`].
+    pub fn admit_reset(&mut self, g: usize) -> Result<Vec<usize>, Rejection> {
+        self.group_admit(g, GroupFbClass::Reset, "MC_GrpReset")?;
+        Ok(self
+            .members(g)
+            .into_iter()
+            .filter(|&ax| !self.axes[ax].error_id.is_none())
+            .collect())
+    }
+
+    /// MC_GrpReset, second half: the group error is cleared; the instance is Done in the next
+    /// cycle.
+    pub fn finish_reset(&mut self, g: usize) -> GroupCallReply {
+        let id = self.group_instance(g, GroupFbKind::GroupReset, CommandState::Busy);
+        self.groups.list[g].error = ErrorId::NONE;
+        self.groups.instant_done.push(id);
+        Self::group_tracked(id)
+    }
+
     fn check_soft_limits(&self, g: usize, fb: &str, p: &[f64]) -> Result<(), Rejection> {
         for (k, ax) in self.groups.list[g].axes().enumerate() {
             let a = &self.axes[ax];
@@ -494,7 +500,7 @@ impl AxisEngine {
     }
 
     /// The group of a command instance's Execute falling edge (MC_GroupStop unlock).
-    pub(crate) fn group_set_execute(&mut self, id: CmdId, execute: bool) -> Option<AxisReply> {
+    pub fn group_set_execute(&mut self, id: CmdId, execute: bool) -> Option<GroupCallReply> {
         let i = self.groups.instances.get_mut(&id)?;
         if i.execute && !execute && i.state.is_final() {
             i.cleared = true;
@@ -514,7 +520,7 @@ impl AxisEngine {
     }
 
     /// Cancel of a group motion goal = MC_GroupHalt with the command's own deceleration.
-    pub(crate) fn group_cancel(&mut self, id: CmdId) -> Option<Result<(), Rejection>> {
+    pub fn group_cancel(&mut self, id: CmdId) -> Option<Result<(), Rejection>> {
         let i = *self.groups.instances.get(&id)?;
         if i.state.is_final() {
             return Some(Ok(()));
@@ -531,16 +537,31 @@ impl AxisEngine {
         }
         Some(Ok(()))
     }
+}
 
-    /// Outputs of a group instance (the active profile's Execute rules).
-    pub fn group_outputs(&self, id: CmdId) -> Option<ExecuteOutputs> {
-        self.groups.outputs(id, self.fbs.cycle, self.platform.isg())
+/// Unit direction and length from `a` to `b` (zero direction for zero length).
+fn unit(a: &[f64], b: &[f64]) -> (Vec<f64>, f64) {
+    let d: Vec<f64> = b.iter().zip(a).map(|(x, y)| x - y).collect();
+    let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if len <= 1e-12 {
+        return (vec![0.0; d.len()], 0.0);
+    }
+    (d.iter().map(|x| x / len).collect(), len)
+}
+
+impl Groups {
+    /// The index of the named group.
+    pub fn index_of(&self, name: &str) -> Result<usize, Rejection> {
+        self.index
+            .get(name)
+            .copied()
+            .ok_or_else(|| Rejection::unknown_object("group", name))
     }
 
     /// The status of one group (MC_GroupReadStatus and the snapshot).
-    pub(crate) fn group_status(&self, g: usize) -> GroupStatus {
-        let grp = &self.groups.list[g];
-        let state = grp.state(&self.axes);
+    pub fn status(&self, g: usize, axes: &[Axis]) -> GroupStatus {
+        let grp = &self.list[g];
+        let state = grp.state(axes);
         let v = grp.path_vel;
         let a = grp.path_acc;
         let moving = v.abs() > V_REST;
@@ -558,157 +579,57 @@ impl AxisEngine {
             decelerating: moving && a * v < -1e-9,
             in_position: grp.job.is_none()
                 && grp.axes().all(|i| {
-                    let x = &self.axes[i];
+                    let x = &axes[i];
                     (x.act_pos - x.set.pos).abs() <= x.cfg.position_range_window
                 }),
-            axes: grp.axes().map(|i| self.axes[i].name.clone()).collect(),
+            axes: grp.axes().map(|i| axes[i].name.clone()).collect(),
             idents: grp.members.iter().map(|m| m.0).collect(),
             error_id: grp.error,
             override_factor: grp.override_factor,
             path_velocity: v,
             path_acceleration: a,
-            set_position: grp.axes().map(|i| self.axes[i].set.pos).collect(),
-            act_position: grp.axes().map(|i| self.axes[i].act_pos).collect(),
+            set_position: grp.axes().map(|i| axes[i].set.pos).collect(),
+            act_position: grp.axes().map(|i| axes[i].act_pos).collect(),
             path_points: grp.path.len(),
         }
     }
 
     /// The status of a group by name.
-    pub fn group(&self, name: &str) -> Option<GroupStatus> {
-        self.groups.index.get(name).map(|&g| self.group_status(g))
+    pub fn by_name(&self, name: &str, axes: &[Axis]) -> Option<GroupStatus> {
+        self.index.get(name).map(|&g| self.status(g, axes))
     }
 
     /// Group names in configuration order.
-    pub fn group_names(&self) -> impl Iterator<Item = &str> {
-        self.groups.list.iter().map(|g| g.name.as_str())
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.list.iter().map(|g| g.name.as_str())
     }
 
-    /// A Part 4 call through the profile's start-up and version checks (§9, R-SAF-2).
-    pub(crate) fn group_command_screened(
-        &mut self,
-        cmd: GroupCommand,
-    ) -> Result<AxisReply, Rejection> {
-        let read = matches!(
-            cmd,
-            GroupCommand::GroupReadStatus { .. }
-                | GroupCommand::GroupReadError { .. }
-                | GroupCommand::GroupReadActualPosition { .. }
-                | GroupCommand::GroupReadActualVelocity { .. }
-                | GroupCommand::GroupReadConfiguration { .. }
-        );
-        if self.platform.isg() && !read {
-            if self.platform.version_mismatch {
-                return Err(reject(
-                    ERR_SIM_VERSION_MISMATCH,
-                    format!(
-                        "group '{}': HLI version/size mismatch (R-SAF-2)",
-                        cmd.group()
-                    ),
-                ));
-            }
-            if self.platform.starting() {
-                return Err(reject(
-                    ERR_PO_AX_TNA_INIT_STATE,
-                    format!("group '{}': order during start-up (§9)", cmd.group()),
-                ));
-            }
-        }
-        // R-SAF-5: in T1/T2 group motions need the enabling switch.
-        let motion = matches!(
-            cmd,
-            GroupCommand::MoveLinearAbsolute(_)
-                | GroupCommand::MoveLinearRelative(_)
-                | GroupCommand::MovePath(_)
-        );
-        if motion
-            && self.platform.safety()
-            && self.platform.mode != crate::platform::OperatingMode::Auto
-            && !self.platform.enabling_switch
-        {
-            return Err(reject(
-                ERR_SIM_TRANSITION_NOT_ALLOWED,
-                format!(
-                    "group '{}': motion in {:?} needs the enabling switch (R-SAF-5)",
-                    cmd.group(),
-                    self.platform.mode
-                ),
-            ));
-        }
-        // R-HS-3/R-HS-4 on the group's channel slot: one order per cycle, MC_GroupStop
-        // overwrites; reads and MC_GroupSetOverride use no slot.
-        let order =
-            self.platform.isg() && !read && !matches!(cmd, GroupCommand::GroupSetOverride(_));
-        let g = self.group_index(cmd.group())?;
-        if order && self.groups.list[g].slot && !matches!(cmd, GroupCommand::GroupStop(_)) {
-            return Err(reject(
-                FB_ERR_MC_DID_NOT_TAKE_ORDER,
-                format!(
-                    "group '{}': the channel's order slot is already used in this cycle (R-HS-3)",
-                    cmd.group()
-                ),
-            ));
-        }
-        let reply = self.group_command(cmd)?;
-        if order {
-            self.groups.list[g].slot = true;
-            self.platform
-                .order_ids
-                .insert(reply.id, self.platform.g_order_id);
-            self.platform.g_order_id = self.platform.g_order_id.wrapping_add(1);
-        }
-        Ok(reply)
-    }
-
-    /// Single-axis motion FBs on a member of a moving or stopping group are refused.
-    pub(crate) fn group_screen_axis_command(
+    /// Hook for single-axis commands: a member of a moving/stopping group refuses motion
+    /// (`isg`: the ISG profile's error id).
+    pub fn blocks_axis(
         &self,
         ax: usize,
-        cmd: &crate::command::AxisCommand,
+        fb: &str,
+        axes: &[Axis],
+        isg: bool,
     ) -> Result<(), Rejection> {
-        use crate::command::AxisCommand::*;
-        let fb = match cmd {
-            MoveAbsolute(_) => "MC_MoveAbsolute",
-            MoveRelative(_) => "MC_MoveRelative",
-            MoveAdditive(_) => "MC_MoveAdditive",
-            MoveModulo(_) => "MC_MoveModulo",
-            MoveVelocity(_) => "MC_MoveVelocity",
-            MoveContinuousAbsolute(_) => "MC_MoveContinuousAbsolute",
-            MoveContinuousRelative(_) => "MC_MoveContinuousRelative",
-            Halt(_) => "MC_Halt",
-            Stop(_) => "MC_Stop",
-            Home(_) => "MC_Home",
-            Jog(_) => "MC_Jog",
-            GearIn(_) => "MC_GearIn",
-            GearInDyn(_) => "MC_GearInDyn",
-            GearOut(_) => "MC_GearOut",
-            TorqueControl(_) => "MC_TorqueControl",
-            MoveSuperImposed(_) => "MC_MoveSuperImposed",
-            SetPosition(_) => "MC_SetPosition",
-            Reset(_) if self.axes[ax].error_id.is_none() => "MC_Reset",
-            _ => return Ok(()),
-        };
-        self.group_blocks_axis(ax, fb)
-    }
-
-    /// Hook for single-axis commands: a member of a moving/stopping group refuses motion.
-    pub(crate) fn group_blocks_axis(&self, ax: usize, fb: &str) -> Result<(), Rejection> {
-        let Some(g) = self.groups.of_axis.get(ax).copied().flatten() else {
+        let Some(g) = self.of_axis.get(ax).copied().flatten() else {
             return Ok(());
         };
-        let grp = &self.groups.list[g];
+        let grp = &self.list[g];
         if grp.job.is_some() || grp.lock.is_some() {
-            let id = if self.platform.isg() {
+            let id = if isg {
                 ERR_SIM_TRANSITION_NOT_ALLOWED
             } else {
-                crate::error_ids::AXIS_CANNOT_BE_STARTED
+                single_axis::error_ids::AXIS_CANNOT_BE_STARTED
             };
             return Err(reject(
                 id,
                 format!(
                     "axis '{}': {fb} not allowed while its group '{}' is {:?}",
-                    self.axes[ax].name,
+                    axes[ax].name,
                     grp.name,
-                    grp.state(&self.axes)
+                    grp.state(axes)
                 ),
             ));
         }
@@ -716,8 +637,13 @@ impl AxisEngine {
     }
 
     /// Builds the groups of the configuration (R-ARCH-4).
-    pub(crate) fn build_groups(&mut self, cfg: &[GroupConfig]) -> Result<(), Rejection> {
-        self.groups.of_axis = vec![None; self.axes.len()];
+    pub fn build(
+        &mut self,
+        cfg: &[GroupConfig],
+        index: &HashMap<String, usize>,
+        n_axes: usize,
+    ) -> Result<(), Rejection> {
+        self.of_axis = vec![None; n_axes];
         for (k, gc) in cfg.iter().enumerate() {
             if gc.name.is_empty() {
                 return Err(reject(
@@ -725,7 +651,7 @@ impl AxisEngine {
                     format!("group #{k}: empty group name"),
                 ));
             }
-            if self.groups.index.insert(gc.name.clone(), k).is_some() {
+            if self.index.insert(gc.name.clone(), k).is_some() {
                 return Err(reject(
                     ErrorId::VALUE_OUT_OF_RANGE,
                     format!("group '{}' is configured twice", gc.name),
@@ -733,12 +659,11 @@ impl AxisEngine {
             }
             let mut grp = Group::new(gc.name.clone());
             for (m, name) in gc.axes.iter().enumerate() {
-                let ax = self
-                    .index
+                let ax = index
                     .get(name)
                     .copied()
                     .ok_or_else(|| Rejection::unknown_object("axis", name))?;
-                if let Some(o) = self.groups.of_axis[ax] {
+                if let Some(o) = self.of_axis[ax] {
                     return Err(reject(
                         ERR_SIM_INVALID_PARAMETER,
                         format!(
@@ -747,24 +672,14 @@ impl AxisEngine {
                         ),
                     ));
                 }
-                self.groups.of_axis[ax] = Some(k);
+                self.of_axis[ax] = Some(k);
                 grp.members.push((m as u32 + 1, ax));
             }
-            self.groups.list.push(grp);
+            self.list.push(grp);
         }
         Ok(())
     }
 }
 
-/// Unit direction and length from `a` to `b` (zero direction for zero length).
-fn unit(a: &[f64], b: &[f64]) -> (Vec<f64>, f64) {
-    let d: Vec<f64> = b.iter().zip(a).map(|(x, y)| x - y).collect();
-    let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if len <= 1e-12 {
-        return (vec![0.0; d.len()], 0.0);
-    }
-    (d.iter().map(|x| x / len).collect(), len)
-}
-
-// The group's path motion: its own module (the glue's private helpers are its too).
+// The group's path motion: its own module (this module's private helpers are its too).
 mod motion;

@@ -4,13 +4,13 @@
 
 use super::*;
 
-impl AxisEngine {
+impl GroupCx<'_> {
     pub(super) fn move_linear(
         &mut self,
         g: usize,
         c: MoveLinear,
         relative: bool,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<GroupCallReply, Rejection> {
         let (fb, kind) = if relative {
             ("MC_MoveLinearRelative", GroupFbKind::MoveLinearRelative)
         } else {
@@ -77,7 +77,7 @@ impl AxisEngine {
     /// Ends the running owner (CommandAborted) when a newer command takes over.
     pub(super) fn group_take_over(&mut self, g: usize) {
         if let Some(owner) = self.groups.list[g].job.as_ref().and_then(|j| j.owner) {
-            self.groups.set(&mut self.fbs, owner, CommandState::Aborted);
+            self.groups.set(self.fbs, owner, CommandState::Aborted);
         }
         if let Some(j) = self.groups.list[g].job.as_mut() {
             j.owner = None;
@@ -160,10 +160,10 @@ impl AxisEngine {
     /// Path limits with the safety caps of the members (R-SAF-5 T1 speed, R-SAF-6 reduced
     /// speed of non-referenced axes): `v_path ≤ cap_i / |u_i|`.
     pub(super) fn group_limits(&self, members: &[usize], dir: &[f64], d: &Dyn) -> Limits {
-        let mut l = path_limits(&self.axes, members, dir, d);
+        let mut l = path_limits(self.axes, members, dir, d);
         for (k, &ax) in members.iter().enumerate() {
             let u = dir.get(k).copied().unwrap_or(0.0).abs();
-            let cap = self.platform_velocity_cap(ax);
+            let cap = self.profile.velocity_cap(ax);
             if u > 1e-12 && cap.is_finite() {
                 l.velocity = l.velocity.min(cap / u);
             }
@@ -171,10 +171,9 @@ impl AxisEngine {
         l
     }
 
-    /// R-SAF-1a/R-SAF-6 for a group order: absolute group moves need referenced members
-    /// (4903); a member's programmed velocity `v · |u_i|` above its monitoring limit raises
-    /// MC error 60241 on that axis (the FB shows ErrorID 1, the group goes to
-    /// GROUP_ERROR_STOP).
+    /// The profile's safety checks of a group order (R-SAF-1a, R-SAF-6; see
+    /// [`GroupProfile::check_group_motion`]) along the line from the members' set positions
+    /// to `target`.
     pub(super) fn group_safety_check(
         &mut self,
         g: usize,
@@ -183,44 +182,13 @@ impl AxisEngine {
         target: &[f64],
         velocity: f64,
     ) -> Result<(), Rejection> {
-        if !self.platform.safety() {
-            return Ok(());
-        }
         let members = self.members(g);
         let here = self.member_set(g);
-        for &ax in &members {
-            if absolute && !self.platform.axes[ax].referenced {
-                return Err(reject(
-                    ERR_SIM_AXIS_NOT_REFERENCED,
-                    format!(
-                        "group '{}': {fb} needs referenced members; axis '{}' is not (R-SAF-6)",
-                        self.groups.list[g].name, self.axes[ax].name
-                    ),
-                ));
-            }
-        }
         let (dir, _) = unit(&here, target);
-        for (k, &ax) in members.iter().enumerate() {
-            let cap = self.platform_velocity_cap(ax);
-            let v = velocity.min(if dir[k].abs() > 1e-12 {
-                cap / dir[k].abs()
-            } else {
-                f64::INFINITY
-            }) * dir[k].abs();
-            let p = &self.platform.axes[ax];
-            if p.velocity_lease == 0 && v > p.velocity_limit() {
-                let limit = p.velocity_limit();
-                self.mc_message(ax, MC_PROGRAMMED_VELOCITY_EXCEEDS_LIMIT.0, 1, 1);
-                return Err(reject(
-                    ERR_PLC_AX_MC,
-                    format!(
-                        "group '{}': {fb}: MC error 60241 on axis '{}': programmed velocity {v} exceeds the monitoring limit {limit} (R-SAF-1)",
-                        self.groups.list[g].name, self.axes[ax].name
-                    ),
-                ));
-            }
-        }
-        Ok(())
+        let name = self.groups.list[g].name.clone();
+        self.profile.check_group_motion(
+            self.axes, self.fbs, &name, fb, &members, absolute, &dir, velocity,
+        )
     }
 
     /// A rest-to-rest segment from `from` to `to`.
@@ -269,7 +237,7 @@ impl AxisEngine {
         s: State1,
         d: &Dyn,
     ) -> Profile1 {
-        let l = path_limits(&self.axes, members, dir, d);
+        let l = path_limits(self.axes, members, dir, d);
         let l = Limits {
             velocity: l.velocity.max(s.vel.abs()).max(1e-9),
             acceleration: l.acceleration.max(l.deceleration),
@@ -413,14 +381,13 @@ impl AxisEngine {
 
     /// Ends the group motion and hands the members back (disable, ungroup): owners
     /// CommandAborted, moving members brake on their own with AxisDec/AxisJerk.
-    pub(crate) fn group_abort_motion(&mut self, g: usize, abort_lock: bool) {
+    pub fn group_abort_motion(&mut self, g: usize, abort_lock: bool) {
         self.group_take_over(g);
         self.groups.list[g].job = None;
         if abort_lock {
             if let Some(l) = self.groups.list[g].lock.take() {
                 if !l.done {
-                    self.groups
-                        .set(&mut self.fbs, l.owner, CommandState::Aborted);
+                    self.groups.set(self.fbs, l.owner, CommandState::Aborted);
                 }
             }
         }
@@ -455,13 +422,13 @@ impl AxisEngine {
 
     /// One cycle of every group: error latch, path interpolation (members' set values).
     /// Runs before the axes step (they then compute actual values and monitoring).
-    pub(crate) fn groups_step(&mut self, dt: f64) {
+    pub fn groups_step(&mut self, dt: f64) {
         for k in 0..self.groups.instant_done.len() {
             let id = self.groups.instant_done[k];
-            self.groups.set(&mut self.fbs, id, CommandState::Done);
+            self.groups.set(self.fbs, id, CommandState::Done);
         }
         self.groups.instant_done.clear();
-        let hold = self.platform.feed_hold();
+        let hold = self.profile.feed_hold();
         for g in 0..self.groups.list.len() {
             self.groups.list[g].slot = false;
             if self.groups.list[g].held != hold {
@@ -485,7 +452,7 @@ impl AxisEngine {
             let lock = self.groups.list[g].lock.take().map(|l| l.owner);
             for id in owner.into_iter().chain(lock) {
                 self.groups
-                    .set(&mut self.fbs, id, CommandState::Error(ERR_PLC_AX_MC));
+                    .set(self.fbs, id, CommandState::Error(ERR_PLC_AX_MC));
             }
             if let Some(j) = self.groups.list[g].job.as_mut() {
                 j.owner = None;
@@ -589,14 +556,14 @@ impl AxisEngine {
             PathKind::ErrorStop => {}
             PathKind::Move | PathKind::Halt => {
                 if let Some(id) = job.owner {
-                    self.groups.set(&mut self.fbs, id, CommandState::Done);
+                    self.groups.set(self.fbs, id, CommandState::Done);
                 }
             }
             PathKind::Stop => {
                 if let Some(l) = self.groups.list[g].lock.as_mut() {
                     l.done = true;
                     let (owner, execute) = (l.owner, l.execute);
-                    self.groups.set(&mut self.fbs, owner, CommandState::Done);
+                    self.groups.set(self.fbs, owner, CommandState::Done);
                     if !execute {
                         self.groups.list[g].lock = None;
                     }

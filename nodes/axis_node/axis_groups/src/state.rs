@@ -1,7 +1,7 @@
 //! Group state machine (plcopen_platform.md §5, proposal after PLCopen Part 4): the states,
 //! the derived-state rule and the admission matrix.
 
-use crate::platform::ids::ERR_SIM_TRANSITION_NOT_ALLOWED;
+use crate::ids::ERR_SIM_TRANSITION_NOT_ALLOWED;
 use motion_core::ErrorId;
 use serde::{Deserialize, Serialize};
 
