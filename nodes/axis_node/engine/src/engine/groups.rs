@@ -196,8 +196,12 @@ impl AxisEngine {
         self.group_cx().group_abort_motion(g, abort_lock);
     }
 
-    /// One cycle of every group, before the axes step.
+    /// One cycle of every group, before the axes step. Without groups there is nothing to do
+    /// (and no instance to report), so the cycle of a plain single-axis engine skips it.
     pub(crate) fn groups_step(&mut self, dt: f64) {
+        if self.groups.list.is_empty() && self.groups.instant_done.is_empty() {
+            return;
+        }
         self.group_cx().groups_step(dt);
     }
 
