@@ -17,6 +17,7 @@ pub mod calc;
 pub mod config;
 pub mod error_ids;
 pub mod extension_inputs;
+pub mod fb_inputs;
 pub mod gearing;
 pub mod handshake;
 pub mod homing;
