@@ -250,29 +250,37 @@ impl From<crate::ca::CaReply> for AxisReply {
 }
 
 impl AxisCommand {
+    /// The manual's name of a single-axis motion FB (MC_MoveAbsolute ... MC_SetPosition), None
+    /// for every other command: the commands that groups and the platform's safety rules
+    /// screen on their axes.
+    pub fn motion_fb_name(&self) -> Option<&'static str> {
+        use AxisCommand::*;
+        Some(match self {
+            MoveAbsolute(_) => "MC_MoveAbsolute",
+            MoveRelative(_) => "MC_MoveRelative",
+            MoveAdditive(_) => "MC_MoveAdditive",
+            MoveModulo(_) => "MC_MoveModulo",
+            MoveVelocity(_) => "MC_MoveVelocity",
+            MoveContinuousAbsolute(_) => "MC_MoveContinuousAbsolute",
+            MoveContinuousRelative(_) => "MC_MoveContinuousRelative",
+            Halt(_) => "MC_Halt",
+            Stop(_) => "MC_Stop",
+            Home(_) => "MC_Home",
+            Jog(_) => "MC_Jog",
+            GearIn(_) => "MC_GearIn",
+            GearInDyn(_) => "MC_GearInDyn",
+            GearOut(_) => "MC_GearOut",
+            TorqueControl(_) => "MC_TorqueControl",
+            MoveSuperImposed(_) => "MC_MoveSuperImposed",
+            SetPosition(_) => "MC_SetPosition",
+            _ => return None,
+        })
+    }
+
     /// A plain single-axis motion command: refused on a member of an enabled CA group
-    /// (collision_avoidance.md §4.2).
+    /// (collision_avoidance.md §4.2); MC_GearOut is not one there.
     pub fn is_plain_motion(&self) -> bool {
-        use AxisCommand as C;
-        matches!(
-            self,
-            C::MoveAbsolute(_)
-                | C::MoveRelative(_)
-                | C::MoveAdditive(_)
-                | C::MoveModulo(_)
-                | C::MoveVelocity(_)
-                | C::MoveContinuousAbsolute(_)
-                | C::MoveContinuousRelative(_)
-                | C::Halt(_)
-                | C::Stop(_)
-                | C::SetPosition(_)
-                | C::Home(_)
-                | C::Jog(_)
-                | C::GearIn(_)
-                | C::GearInDyn(_)
-                | C::TorqueControl(_)
-                | C::MoveSuperImposed(_)
-        )
+        self.motion_fb_name().is_some() && !matches!(self, AxisCommand::GearOut(_))
     }
 
     /// The axis the command addresses (None for `SetExecute`).

@@ -128,27 +128,14 @@ impl AxisEngine {
         ax: usize,
         cmd: &crate::command::AxisCommand,
     ) -> Result<(), Rejection> {
-        use crate::command::AxisCommand::*;
-        let fb = match cmd {
-            MoveAbsolute(_) => "MC_MoveAbsolute",
-            MoveRelative(_) => "MC_MoveRelative",
-            MoveAdditive(_) => "MC_MoveAdditive",
-            MoveModulo(_) => "MC_MoveModulo",
-            MoveVelocity(_) => "MC_MoveVelocity",
-            MoveContinuousAbsolute(_) => "MC_MoveContinuousAbsolute",
-            MoveContinuousRelative(_) => "MC_MoveContinuousRelative",
-            Halt(_) => "MC_Halt",
-            Stop(_) => "MC_Stop",
-            Home(_) => "MC_Home",
-            Jog(_) => "MC_Jog",
-            GearIn(_) => "MC_GearIn",
-            GearInDyn(_) => "MC_GearInDyn",
-            GearOut(_) => "MC_GearOut",
-            TorqueControl(_) => "MC_TorqueControl",
-            MoveSuperImposed(_) => "MC_MoveSuperImposed",
-            SetPosition(_) => "MC_SetPosition",
-            Reset(_) if self.axes[ax].error_id.is_none() => "MC_Reset",
-            _ => return Ok(()),
+        let fb = match cmd.motion_fb_name() {
+            Some(fb) => fb,
+            None if matches!(cmd, crate::command::AxisCommand::Reset(_))
+                && self.axes[ax].error_id.is_none() =>
+            {
+                "MC_Reset"
+            }
+            None => return Ok(()),
         };
         self.group_blocks_axis(ax, fb)
     }

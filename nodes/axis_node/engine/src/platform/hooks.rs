@@ -58,32 +58,6 @@ fn not_in_catalogue(cmd: &AxisCommand) -> Option<&'static str> {
     })
 }
 
-/// Motion FBs (R-SAF-6: only MoveRelative, MoveVelocity, Home, Stop, Halt on a
-/// non-referenced axis).
-fn motion_fb(cmd: &AxisCommand) -> Option<&'static str> {
-    use AxisCommand::*;
-    Some(match cmd {
-        MoveAbsolute(_) => "MC_MoveAbsolute",
-        MoveRelative(_) => "MC_MoveRelative",
-        MoveAdditive(_) => "MC_MoveAdditive",
-        MoveModulo(_) => "MC_MoveModulo",
-        MoveVelocity(_) => "MC_MoveVelocity",
-        MoveContinuousAbsolute(_) => "MC_MoveContinuousAbsolute",
-        MoveContinuousRelative(_) => "MC_MoveContinuousRelative",
-        Halt(_) => "MC_Halt",
-        Stop(_) => "MC_Stop",
-        Home(_) => "MC_Home",
-        Jog(_) => "MC_Jog",
-        GearIn(_) => "MC_GearIn",
-        GearInDyn(_) => "MC_GearInDyn",
-        GearOut(_) => "MC_GearOut",
-        TorqueControl(_) => "MC_TorqueControl",
-        MoveSuperImposed(_) => "MC_MoveSuperImposed",
-        SetPosition(_) => "MC_SetPosition",
-        _ => return None,
-    })
-}
-
 /// The commanded velocity of a move FB.
 fn velocity_of(cmd: &mut AxisCommand) -> Option<&mut f64> {
     use AxisCommand::*;
@@ -262,7 +236,9 @@ impl AxisEngine {
             force_aborting(cmd);
         }
         if self.platform.safety() {
-            let fb = motion_fb(cmd);
+            // Motion FBs (R-SAF-6: only MoveRelative, MoveVelocity, Home, Stop, Halt on a
+            // non-referenced axis).
+            let fb = cmd.motion_fb_name();
             let p = &self.platform.axes[ax];
             // R-SAF-5: in T1/T2 orders need the enabling switch.
             let stopping = matches!(cmd, AxisCommand::Stop(_) | AxisCommand::Halt(_));
