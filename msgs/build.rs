@@ -58,6 +58,7 @@ fn main() {
          pub const INTERFACE_HASH: u32 = 0x{:08X};",
         interface_hash(&root)
     );
+    rs.push_str(&message_definitions(&sources, &packages));
     std::fs::write(out.join("interfaces.rs"), rs).expect("write rs");
     std::fs::write(out.join("interfaces.json"), describe(&packages)).expect("write json");
 
@@ -1546,5 +1547,75 @@ fn generate_rust(packages: &[Package]) -> String {
         }
         out.push_str("}\n");
     }
+    out
+}
+
+// ------------------------------------------------------------------------------------------
+// Message definitions (ros2msg), for recordings and live feeds
+// ------------------------------------------------------------------------------------------
+
+/// The `ros2msg` definition of every `.msg` type as rosbag2 writes it into MCAP schemas (and
+/// Foxglove reads it): the type's file text, then every type it uses (depth first, in order of
+/// first use, each once) after a line of 80 `=` and `MSG: pkg/Name`. Generated as the sorted
+/// table `MESSAGE_DEFINITIONS` of (`pkg/msg/Name`, text).
+fn message_definitions(sources: &[(String, PathBuf)], packages: &[Package]) -> String {
+    let dir_of: BTreeMap<&str, &PathBuf> = sources.iter().map(|(p, d)| (p.as_str(), d)).collect();
+    let mut specs: BTreeMap<(String, String), &MessageSpec> = BTreeMap::new();
+    for p in packages {
+        for i in &p.interfaces {
+            if let Interface::Msg(m) = i {
+                specs.insert((m.pkg.clone(), m.name.clone()), m);
+            }
+        }
+    }
+    let text = |pkg: &str, name: &str| -> String {
+        let path = dir_of[pkg].join("msg").join(format!("{name}.msg"));
+        std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    };
+    fn uses(
+        m: &MessageSpec,
+        specs: &BTreeMap<(String, String), &MessageSpec>,
+        seen: &mut BTreeSet<(String, String)>,
+        order: &mut Vec<(String, String)>,
+    ) {
+        for f in &m.fields {
+            if let BaseType::Nested { pkg, name } = &f.ty.base {
+                let key = (pkg.clone(), name.clone());
+                if seen.insert(key.clone()) {
+                    order.push(key.clone());
+                    if let Some(d) = specs.get(&key) {
+                        uses(d, specs, seen, order);
+                    }
+                }
+            }
+        }
+    }
+    let mut out = String::from(
+        "/// `ros2msg` definitions of every message type (rosbag2's MCAP schema format), sorted by\n\
+         /// ROS type name: see [`message_definition`](crate::message_definition).\n\
+         pub const MESSAGE_DEFINITIONS: &[(&str, &str)] = &[\n",
+    );
+    let mut table = Vec::new();
+    for ((pkg, name), m) in &specs {
+        let mut def = text(pkg, name);
+        let mut seen = BTreeSet::new();
+        let mut order = Vec::new();
+        uses(m, &specs, &mut seen, &mut order);
+        for (dpkg, dname) in order {
+            if !def.ends_with('\n') {
+                def.push('\n');
+            }
+            def.push_str(&"=".repeat(80));
+            let _ = write!(def, "\nMSG: {dpkg}/{dname}\n");
+            def.push_str(&text(&dpkg, &dname));
+        }
+        table.push((format!("{pkg}/msg/{name}"), def));
+    }
+    // Sorted by the name as a string, for the binary search of `message_definition`.
+    table.sort();
+    for (name, def) in table {
+        let _ = writeln!(out, "    ({name:?}, {def:?}),");
+    }
+    out.push_str("];\n");
     out
 }

@@ -2,7 +2,8 @@
 # Installs what the demo and the tests need, only what is missing (idempotent):
 # Debian packages (ROS's interface parser, iproute2 for the private network namespace,
 # nftables for the lossy-link tests),
-# Python packages (cyclonedds: an independent DDS peer; ruckig: trajectory oracle; pyyaml).
+# Python packages (cyclonedds: an independent DDS peer; ruckig: trajectory oracle; pyyaml;
+# mcap-ros2-support: the MCAP/ros2msg reader that checks our message definitions).
 # The test command also builds the ROS 2 Jazzy venv of the rclpy suite (scripts/ros-venv.sh).
 set -euo pipefail
 SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
@@ -23,6 +24,7 @@ need_pip=()
 $PY -c "import cyclonedds" 2>/dev/null || need_pip+=("cyclonedds==11.0.1")
 $PY -c "import ruckig" 2>/dev/null || need_pip+=(ruckig)
 $PY -c "import yaml" 2>/dev/null || need_pip+=(pyyaml)
+$PY -c "import mcap_ros2._dynamic" 2>/dev/null || need_pip+=("mcap-ros2-support==0.6.0")
 if [ ${#need_pip[@]} -gt 0 ]; then
   echo "setup: installing Python packages: ${need_pip[*]}"
   $PY -m pip install -q "${need_pip[@]}"

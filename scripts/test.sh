@@ -13,6 +13,7 @@ export CARGO_TERM_COLOR=${CARGO_TERM_COLOR:-never}
 export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}
 # setup.sh installed cyclonedds: the Rust/Python CDR cross-check must run, not skip.
 export MOTION_MSGS_REQUIRE_CYCLONEDDS=1
+export MOTION_MSGS_REQUIRE_MCAP=1
 # ros-venv.sh built the rclpy venv: the rclpy suite must run, not skip.
 export MOTION_REQUIRE_RCLPY=1
 cargo build --workspace --all-targets --quiet

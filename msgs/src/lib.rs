@@ -30,6 +30,16 @@ include!(concat!(env!("OUT_DIR"), "/interfaces.rs"));
 pub const INTERFACE_DESCRIPTION_JSON: &str =
     include_str!(concat!(env!("OUT_DIR"), "/interfaces.json"));
 
+/// The `ros2msg` definition of a message type (`pkg/msg/Name`), as rosbag2 stores it in an
+/// MCAP schema and Foxglove reads it: the type's `.msg` text followed by every type it uses,
+/// each after a line of 80 `=` and `MSG: pkg/Name`. None for unknown names.
+pub fn message_definition(ros_type_name: &str) -> Option<&'static str> {
+    MESSAGE_DEFINITIONS
+        .binary_search_by(|(name, _)| (*name).cmp(ros_type_name))
+        .ok()
+        .map(|i| MESSAGE_DEFINITIONS[i].1)
+}
+
 /// ROS 2 type names of a generated message struct (also service / action parts).
 pub trait RosType {
     /// e.g. `motion_msgs/msg/AxisState`, `motion_msgs/srv/Halt_Request`.
