@@ -6,6 +6,7 @@
 pub mod clock;
 pub mod cycle;
 pub mod failsafe;
+pub mod record;
 pub mod ros_args;
 pub mod rt;
 pub mod signals;
