@@ -153,6 +153,14 @@ fn demo_planar_ring_carries_the_movers() {
 /// Each bad config: (file text, what the message must name).
 const BAD: &[(&str, &[&str])] = &[
     (
+        "record: 5\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
+        &["record", "expected a file name"],
+    ),
+    (
+        "recrod: run.mcap\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
+        &["recrod", "unknown key"],
+    ),
+    (
         "nodes:\n  - kind: axis_node\n    tf_pose: [0, 0, .nan, 0, 0, 0]\n    axes: {x: {}}\n",
         &["nodes[0] (axis_node).tf_pose", "NaN is not a finite number"],
     ),

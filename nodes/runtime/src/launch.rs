@@ -116,6 +116,14 @@ pub fn load_with(
     parse_with(&text, &file, kinds, ros)
 }
 
+/// The launch config's `record` key: record every published message of every node to this
+/// MCAP file (as `--record FILE`, which takes precedence). Checked by [`parse_with`].
+pub fn record_key(path: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let root: serde_yaml::Value = serde_yaml::from_str(&text).ok()?;
+    root.get("record")?.as_str().map(str::to_string)
+}
+
 /// [`load`] on text (`file` names it in messages).
 pub fn parse(text: &str, file: &str, kinds: &[NodeKind]) -> Result<Vec<NodeEntry>, ConfigError> {
     parse_with(text, file, kinds, &RosArgs::default())
@@ -136,12 +144,22 @@ pub fn parse_with(
         location: file.into(),
         message: "expected a mapping with key 'nodes'".into(),
     })?;
-    for k in map.keys() {
-        if k.as_str() != Some("nodes") {
-            return Err(ConfigError {
-                location: format!("{file}: {}", k.as_str().unwrap_or("?")),
-                message: "unknown key (expected only 'nodes')".into(),
-            });
+    for (k, v) in map {
+        match k.as_str() {
+            Some("nodes") => {}
+            Some("record") if v.as_str().is_some_and(|f| !f.is_empty()) => {}
+            Some("record") => {
+                return Err(ConfigError {
+                    location: format!("{file}: record"),
+                    message: "expected a file name (e.g. run.mcap)".into(),
+                })
+            }
+            _ => {
+                return Err(ConfigError {
+                    location: format!("{file}: {}", k.as_str().unwrap_or("?")),
+                    message: "unknown key (expected 'nodes' and optionally 'record')".into(),
+                })
+            }
         }
     }
     let nodes = map
@@ -209,6 +227,8 @@ pub struct Args {
     pub duration: Option<f64>,
     /// Only check the config, start nothing.
     pub check: bool,
+    /// `--record FILE`: record every published message of every node to an MCAP file.
+    pub record: Option<String>,
     /// `--ros-args ... [--]`.
     pub ros: RosArgs,
 }
@@ -232,6 +252,12 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                 );
             }
             "--check" => a.check = true,
+            "--record" => {
+                let v = it
+                    .next()
+                    .ok_or("--record needs a file name (e.g. run.mcap)")?;
+                a.record = Some(v);
+            }
             "-h" | "--help" => return Err(usage.to_string()),
             s if s.starts_with('-') => return Err(format!("unknown option {s}\n{usage}")),
             s => {
@@ -252,7 +278,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -283,6 +309,13 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
             return 2;
         }
     };
+    let record = args.record.clone().or_else(|| record_key(Path::new(&path)));
+    if let (Some(file), false) = (&record, args.check) {
+        if let Err(e) = crate::record::start(Path::new(file)) {
+            eprintln!("{program}: cannot record to {file}: {e}");
+            return 2;
+        }
+    }
     let rt = match tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -336,6 +369,17 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         }
         for r in running {
             r.stop().await;
+        }
+        // The nodes are stopped: nothing publishes any more, the recording can be closed.
+        match crate::record::finish() {
+            Some(Ok((written, dropped))) => {
+                tracing::info!("recording closed: {written} messages ({dropped} dropped)");
+            }
+            Some(Err(e)) => {
+                eprintln!("{program}: {e}");
+                return 1;
+            }
+            None => {}
         }
         0
     })

@@ -133,3 +133,118 @@ impl Recording {
         Ok(())
     }
 }
+
+/// The process's recording (`motion_launch --record FILE`): a writer thread that owns the
+/// [`Recording`], fed by every publisher of every node of the process through [`record`].
+/// Publishers never wait for it: a message that finds the queue full is dropped and counted.
+struct Recorder {
+    tx: std::sync::mpsc::SyncSender<Entry>,
+    dropped: std::sync::atomic::AtomicU64,
+}
+
+enum Entry {
+    Message {
+        topic: String,
+        ros_type: &'static str,
+        stamp_ns: u64,
+        data: Vec<u8>,
+    },
+    Finish(std::sync::mpsc::Sender<Result<u64, RecordError>>),
+}
+
+static RECORDER: std::sync::OnceLock<Recorder> = std::sync::OnceLock::new();
+
+/// Messages the writer thread may hold before publishers drop instead of waiting.
+const QUEUE: usize = 65_536;
+
+/// Starts recording every published message of this process to `path` (once per process).
+pub fn start(path: &Path) -> Result<(), RecordError> {
+    let mut rec = Recording::create(path)?;
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Entry>(QUEUE);
+    let recorder = Recorder {
+        tx,
+        dropped: std::sync::atomic::AtomicU64::new(0),
+    };
+    if RECORDER.set(recorder).is_err() {
+        return Err(RecordError::Io(std::io::Error::other(
+            "this process records already",
+        )));
+    }
+    std::thread::Builder::new()
+        .name("recorder".into())
+        .spawn(move || {
+            let mut written = 0u64;
+            let mut failed: Option<RecordError> = None;
+            while let Ok(entry) = rx.recv() {
+                match entry {
+                    Entry::Message {
+                        topic,
+                        ros_type,
+                        stamp_ns,
+                        data,
+                    } => {
+                        if failed.is_none() {
+                            match rec.write_cdr(&topic, ros_type, stamp_ns, &data) {
+                                Ok(()) => written += 1,
+                                Err(e) => {
+                                    tracing::error!("{e}; recording stopped");
+                                    failed = Some(e);
+                                }
+                            }
+                        }
+                    }
+                    Entry::Finish(done) => {
+                        let r = match failed.take() {
+                            Some(e) => Err(e),
+                            None => rec.finish().map(|()| written),
+                        };
+                        let _ = done.send(r);
+                        return;
+                    }
+                }
+            }
+        })?;
+    Ok(())
+}
+
+/// Records `msg` (ROS type `ros_type`) on `topic` at ROS time `stamp_ns`, if this process
+/// records; otherwise does nothing. Never blocks.
+pub fn record<M: serde::Serialize>(topic: &str, ros_type: &'static str, stamp_ns: i64, msg: &M) {
+    let Some(r) = RECORDER.get() else {
+        return;
+    };
+    let mut data = vec![0x00, 0x01, 0x00, 0x00];
+    if to_writer_with_rep_id(&mut data, msg, RepresentationIdentifier::CDR_LE).is_err() {
+        return;
+    }
+    let entry = Entry::Message {
+        topic: topic.to_string(),
+        ros_type,
+        stamp_ns: stamp_ns.max(0) as u64,
+        data,
+    };
+    if r.tx.try_send(entry).is_err() {
+        r.dropped.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
+/// Ends the recording (after the nodes stopped): waits for the queue to be written, writes the
+/// summary and closes the file. Returns the messages written and those dropped; None when this
+/// process did not record.
+pub fn finish() -> Option<Result<(u64, u64), RecordError>> {
+    let r = RECORDER.get()?;
+    let (tx, rx) = std::sync::mpsc::channel();
+    if r.tx.send(Entry::Finish(tx)).is_err() {
+        return Some(Err(RecordError::Io(std::io::Error::other(
+            "the recorder thread ended",
+        ))));
+    }
+    let dropped = r.dropped.load(std::sync::atomic::Ordering::Relaxed);
+    Some(match rx.recv() {
+        Ok(Ok(written)) => Ok((written, dropped)),
+        Ok(Err(e)) => Err(e),
+        Err(_) => Err(RecordError::Io(std::io::Error::other(
+            "the recorder thread ended",
+        ))),
+    })
+}

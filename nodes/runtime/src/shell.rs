@@ -426,13 +426,11 @@ where
         &mut self,
         mut events: UnboundedReceiver<CommandEvent>,
     ) -> Result<(), ShellError> {
+        let name = private_name(&self.settings, "command_status")?;
+        let topic_name = name.to_string();
         let topic = self
             .node
-            .create_topic(
-                &private_name(&self.settings, "command_status")?,
-                CommandStatus::type_name(),
-                &topic_qos(),
-            )
+            .create_topic(&name, CommandStatus::type_name(), &topic_qos())
             .map_err(err("topic"))?;
         let publisher = self
             .node
@@ -448,8 +446,9 @@ where
                     let _ = t.send((ev, label.clone()));
                 }
                 let o = motion_core::ExecuteOutputs::from(ev.state);
+                let snap = handle.snapshot();
                 let msg = CommandStatus {
-                    stamp: stamp(&handle.snapshot()),
+                    stamp: stamp(&snap),
                     command_id: ev.id.0,
                     object: label.object,
                     command: label.command,
@@ -465,6 +464,12 @@ where
                         String::new()
                     },
                 };
+                crate::record::record(
+                    &topic_name,
+                    CommandStatus::ROS_TYPE_NAME,
+                    snap.ros_time_ns,
+                    &msg,
+                );
                 if let Err(e) = publisher.async_publish(msg).await {
                     tracing::warn!("command_status publish failed: {e:?}");
                 }
@@ -515,7 +520,14 @@ where
             loop {
                 tick.tick().await;
                 let stats = handle.stats();
-                let msg = diagnostics_message(&node_name, &stats, stamp(&handle.snapshot()));
+                let snap = handle.snapshot();
+                let msg = diagnostics_message(&node_name, &stats, stamp(&snap));
+                crate::record::record(
+                    "/diagnostics",
+                    DiagnosticArray::ROS_TYPE_NAME,
+                    snap.ros_time_ns,
+                    &msg,
+                );
                 if let Err(e) = publisher.async_publish(msg).await {
                     tracing::warn!("diagnostics publish failed: {e:?}");
                 }
@@ -537,7 +549,9 @@ where
         self.tasks.spawn(async move {
             while snaps.changed().await.is_ok() {
                 let t = snaps.borrow_and_update().ros_time_ns;
-                let _ = publisher.async_publish(Clock { clock: stamp_ns(t) }).await;
+                let msg = Clock { clock: stamp_ns(t) };
+                crate::record::record("/clock", Clock::ROS_TYPE_NAME, t, &msg);
+                let _ = publisher.async_publish(msg).await;
             }
         });
         Ok(())
@@ -576,6 +590,8 @@ where
                 },
             }],
         };
+        let t = self.handle.snapshot().ros_time_ns;
+        crate::record::record("/tf_static", TFMessage::ROS_TYPE_NAME, t, &msg);
         self.tasks.spawn(async move {
             if let Err(e) = publisher.async_publish(msg).await {
                 tracing::warn!("/tf_static publish failed: {e:?}");
@@ -923,10 +939,11 @@ where
         build: F,
     ) -> Result<(), ShellError>
     where
-        M: Message + fmt::Debug + Send + Sync + 'static,
+        M: Message + motion_msgs::RosType + fmt::Debug + Send + Sync + 'static,
         F: Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
     {
         let name = resolve_name(&self.settings, topic)?;
+        let topic_name = name.to_string();
         let t = self
             .node
             .create_topic(&name, type_name, &topic_qos())
@@ -941,7 +958,9 @@ where
             self.streams.push(tx);
             self.tasks.spawn(async move {
                 while let Some(snap) = rx.recv().await {
-                    if let Err(e) = publisher.async_publish(build(&snap)).await {
+                    let msg = build(&snap);
+                    crate::record::record(&topic_name, M::ROS_TYPE_NAME, snap.ros_time_ns, &msg);
+                    if let Err(e) = publisher.async_publish(msg).await {
                         tracing::warn!("state publish failed: {e:?}");
                     }
                 }
@@ -962,6 +981,7 @@ where
                 }
                 last = snap.cycle;
                 let msg = build(&snap);
+                crate::record::record(&topic_name, M::ROS_TYPE_NAME, snap.ros_time_ns, &msg);
                 if let Err(e) = publisher.async_publish(msg).await {
                     tracing::warn!("state publish failed: {e:?}");
                 }

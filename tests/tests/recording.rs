@@ -1,0 +1,180 @@
+//! `motion_launch CONFIG --record FILE` (issue 14 item 3): the demo's three nodes recorded to an
+//! MCAP file of the ROS 2 profile that the PyPI readers (`mcap` + `mcap-ros2-support`) decode
+//! message by message, every state topic of every node on its own channel with its ROS type.
+//! A file that cannot be created is a configuration error (exit 2) before any node starts.
+//!
+//! Needs a python3 with `mcap_ros2` (`$MOTION_MSGS_PYTHON`, else `python3`); skipped with a
+//! message when there is none, unless `MOTION_MSGS_REQUIRE_MCAP` is set (the test command).
+
+use std::process::Command;
+use system_tests::{launcher_bin, require_netns, unique_domain, workspace};
+
+const PY: &str = r#"
+import sys
+from collections import Counter
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+count = Counter()
+joints = set()
+with open(sys.argv[1], 'rb') as f:
+    r = make_reader(f, decoder_factories=[DecoderFactory()])
+    print('profile', r.get_header().profile)
+    for schema, channel, message, m in r.iter_decoded_messages(log_time_order=True):
+        assert schema.encoding == 'ros2msg' and channel.message_encoding == 'cdr'
+        count[(channel.topic, schema.name)] += 1
+        if channel.topic == '/joint_states':
+            joints.update(m.name)
+for (topic, ty), n in sorted(count.items()):
+    print(topic, ty, n)
+print('joints', ' '.join(sorted(joints)))
+"#;
+
+fn python() -> Option<String> {
+    let candidates = std::env::var("MOTION_MSGS_PYTHON")
+        .into_iter()
+        .chain(["python3".to_string()]);
+    candidates.into_iter().find(|p| {
+        Command::new(p)
+            .args(["-c", "import mcap_ros2.decoder"])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    })
+}
+
+#[test]
+fn the_demo_records_every_state_topic_to_mcap() {
+    require_netns();
+    let dir = std::env::temp_dir().join(format!("motion_recording_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("demo.mcap");
+    let out = Command::new(launcher_bin())
+        .arg(workspace().join("launch-configs/demo.yaml"))
+        .args(["--duration", "2", "--record"])
+        .arg(&file)
+        .env("ROS_DOMAIN_ID", unique_domain().to_string())
+        .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
+        .output()
+        .expect("motion_launch");
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "motion_launch failed:\n{log}");
+    assert!(
+        log.contains("recording closed:") && log.contains("(0 dropped)"),
+        "{log}"
+    );
+
+    let Some(py) = python() else {
+        let msg = "no python3 with the mcap-ros2-support package (set MOTION_MSGS_PYTHON)";
+        assert!(std::env::var("MOTION_MSGS_REQUIRE_MCAP").is_err(), "{msg}");
+        eprintln!("SKIPPED: {msg}");
+        return;
+    };
+    let read = Command::new(&py)
+        .args(["-c", PY])
+        .arg(&file)
+        .output()
+        .expect("run python");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        read.status.success(),
+        "python failed:\n{}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    let got = String::from_utf8_lossy(&read.stdout);
+    assert!(got.starts_with("profile ros2\n"), "{got}");
+    let count = |topic: &str, ty: &str| -> u64 {
+        got.lines()
+            .find_map(|l| {
+                let mut w = l.split(' ');
+                (w.next() == Some(topic) && w.next() == Some(ty))
+                    .then(|| w.next().and_then(|n| n.parse().ok()))
+                    .flatten()
+            })
+            .unwrap_or(0)
+    };
+    // Every node's state topics, at their state rate over about 2 s (the demo publishes at
+    // 100 Hz on the axis node and 50 Hz on the others; at least a third of that is asked).
+    for (topic, ty, at_least) in [
+        (
+            "/axis_node/axis_states",
+            "motion_msgs/msg/AxisStateArray",
+            60,
+        ),
+        ("/joint_states", "sensor_msgs/msg/JointState", 60),
+        ("/planar_node/state", "motion_msgs/msg/PlanarState", 30),
+        (
+            "/planar_node/markers",
+            "visualization_msgs/msg/MarkerArray",
+            30,
+        ),
+        (
+            "/pickplace_node/state",
+            "motion_msgs/msg/PickPlaceState",
+            30,
+        ),
+        (
+            "/pickplace_node/markers",
+            "visualization_msgs/msg/MarkerArray",
+            30,
+        ),
+        ("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray", 3),
+        ("/tf_static", "tf2_msgs/msg/TFMessage", 3),
+    ] {
+        let n = count(topic, ty);
+        assert!(
+            n >= at_least,
+            "{topic}: {n} messages, expected >= {at_least}:\n{got}"
+        );
+    }
+    assert!(got.contains("joints table x y"), "{got}");
+}
+
+#[test]
+fn a_recording_that_cannot_be_created_is_a_configuration_error() {
+    require_netns();
+    let out = Command::new(launcher_bin())
+        .arg(workspace().join("launch-configs/demo.yaml"))
+        .args(["--duration", "1", "--record", "/nonexistent-dir/run.mcap"])
+        .env("ROS_DOMAIN_ID", unique_domain().to_string())
+        .output()
+        .expect("motion_launch");
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("cannot record to /nonexistent-dir/run.mcap"),
+        "{log}"
+    );
+    assert!(!log.contains("node started"), "{log}");
+}
+
+#[test]
+fn the_launch_config_key_record_records_too() {
+    require_netns();
+    let dir = std::env::temp_dir().join(format!("motion_recording_key_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("key.mcap");
+    let config = dir.join("one_axis.yaml");
+    std::fs::write(
+        &config,
+        format!(
+            "record: {}\nnodes:\n  - kind: axis_node\n    state_rate: 50\n    axes: {{x: {{}}}}\n",
+            file.display()
+        ),
+    )
+    .unwrap();
+    let out = Command::new(launcher_bin())
+        .arg(&config)
+        .args(["--duration", "1"])
+        .env("ROS_DOMAIN_ID", unique_domain().to_string())
+        .output()
+        .expect("motion_launch");
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "motion_launch failed:\n{log}");
+    assert!(log.contains("recording closed:"), "{log}");
+    let head = std::fs::read(&file).expect("the recording exists");
+    let _ = std::fs::remove_dir_all(&dir);
+    // MCAP magic, then the Header record (op 0x01) whose profile is "ros2".
+    assert_eq!(&head[..8], b"\x89MCAP0\r\n");
+    assert_eq!(head[8], 0x01);
+    assert_eq!(&head[17..21], &4u32.to_le_bytes());
+    assert_eq!(&head[21..25], b"ros2");
+}
