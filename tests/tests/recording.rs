@@ -6,8 +6,9 @@
 //! Needs a python3 with `mcap_ros2` (`$MOTION_MSGS_PYTHON`, else `python3`); skipped with a
 //! message when there is none, unless `MOTION_MSGS_REQUIRE_MCAP` is set (the test command).
 
+use ros2_client::ServiceMapping;
 use std::process::Command;
-use system_tests::{launcher_bin, require_netns, unique_domain, workspace};
+use system_tests::{launcher_bin, require_netns, unique_domain, within, workspace, ClientNode};
 
 const PY: &str = r#"
 import sys
@@ -146,8 +147,10 @@ fn a_recording_that_cannot_be_created_is_a_configuration_error() {
     assert!(!log.contains("node started"), "{log}");
 }
 
+/// The config key `record:` records too; with a client's orders the node's `~/events` and
+/// `~/command_status` are in the recording as well.
 #[test]
-fn the_launch_config_key_record_records_too() {
+fn the_launch_config_key_records_events_and_command_status() {
     require_netns();
     let dir = std::env::temp_dir().join(format!("motion_recording_key_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -156,25 +159,70 @@ fn the_launch_config_key_record_records_too() {
     std::fs::write(
         &config,
         format!(
-            "record: {}\nnodes:\n  - kind: axis_node\n    state_rate: 50\n    axes: {{x: {{}}}}\n",
+            "record: {}\nnodes:\n  - kind: axis_node\n    service_mapping: enhanced\n    state_rate: 50\n    axes: {{x: {{}}}}\n",
             file.display()
         ),
     )
     .unwrap();
-    let out = Command::new(launcher_bin())
+    let domain = unique_domain();
+    let child = Command::new(launcher_bin())
         .arg(&config)
-        .args(["--duration", "1"])
-        .env("ROS_DOMAIN_ID", unique_domain().to_string())
-        .output()
+        .args(["--duration", "6"])
+        .env("ROS_DOMAIN_ID", domain.to_string())
+        .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
         .expect("motion_launch");
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    rt.block_on(async {
+        use motion_msgs::srv::{Reset, ResetRequest, ResetResponse};
+        let mut c = ClientNode::new(domain, "recording_client", ServiceMapping::Enhanced);
+        c.power_on("x").await;
+        let reset = c
+            .client::<ResetRequest, ResetResponse>("/axis_node/reset", Reset::service_type_name())
+            .await;
+        let r = within(
+            10.0,
+            "reset",
+            reset.async_call_service(ResetRequest { axis: "x".into() }),
+        )
+        .await
+        .expect("reset reply");
+        assert!(r.accepted, "reset: {}", r.message);
+    });
+    let out = child.wait_with_output().expect("motion_launch");
     let log = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "motion_launch failed:\n{log}");
     assert!(log.contains("recording closed:"), "{log}");
     let head = std::fs::read(&file).expect("the recording exists");
-    let _ = std::fs::remove_dir_all(&dir);
     // MCAP magic, then the Header record (op 0x01) whose profile is "ros2".
     assert_eq!(&head[..8], b"\x89MCAP0\r\n");
     assert_eq!(head[8], 0x01);
     assert_eq!(&head[17..21], &4u32.to_le_bytes());
     assert_eq!(&head[21..25], b"ros2");
+    let Some(py) = python() else {
+        let msg = "no python3 with the mcap-ros2-support package (set MOTION_MSGS_PYTHON)";
+        assert!(std::env::var("MOTION_MSGS_REQUIRE_MCAP").is_err(), "{msg}");
+        eprintln!("SKIPPED: {msg}");
+        return;
+    };
+    let read = Command::new(&py)
+        .args(["-c", PY])
+        .arg(&file)
+        .output()
+        .expect("run python");
+    let _ = std::fs::remove_dir_all(&dir);
+    let got = String::from_utf8_lossy(&read.stdout);
+    assert!(
+        read.status.success(),
+        "{}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    for topic in [
+        "/axis_node/events motion_msgs/msg/AxisEvent ",
+        "/axis_node/command_status motion_msgs/msg/CommandStatus ",
+        "/axis_node/axis_states motion_msgs/msg/AxisStateArray ",
+    ] {
+        assert!(got.contains(topic), "{topic}missing:\n{got}");
+    }
 }

@@ -243,13 +243,11 @@ impl Acknowledgements {
 /// Registers `~/events`.
 pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     let err = |what: &'static str| move |e| ShellError(format!("~/events {what}: {e:?}"));
+    let name = private_name(&shell.settings, "events")?;
+    let topic_name = name.to_string();
     let topic = shell
         .node
-        .create_topic(
-            &private_name(&shell.settings, "events")?,
-            AxisEvent::type_name(),
-            &events_qos(),
-        )
+        .create_topic(&name, AxisEvent::type_name(), &events_qos())
         .map_err(err("topic"))?;
     let publisher = shell
         .node
@@ -285,6 +283,8 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
                 e.stamp = t.clone();
                 e.seq = seq;
                 seq += 1;
+                let at = motion_runtime::record::time_ns(&e.stamp);
+                motion_runtime::record::record(&topic_name, AxisEvent::ROS_TYPE_NAME, at, &e);
                 if let Err(e) = publisher.async_publish(e).await {
                     tracing::warn!("~/events publish failed: {e:?}");
                 }

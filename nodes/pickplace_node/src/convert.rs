@@ -408,11 +408,20 @@ fn register_events(
         .create_publisher::<PickPlaceEvent>(&topic, None)
         .map_err(|e| ShellError(format!("publisher ~/events: {e:?}")))?;
     let handle = shell.handle.clone();
+    let topic_name = name.to_string();
     shell.spawn(async move {
         while let Some((t, batch)) = events.recv().await {
-            let at = stamp_ns(handle.snapshot().ros_time_at(t));
+            let ns = handle.snapshot().ros_time_at(t);
+            let at = stamp_ns(ns);
             for e in &batch {
-                if let Err(err) = publisher.async_publish(event(e, at.clone())).await {
+                let msg = event(e, at.clone());
+                motion_runtime::record::record(
+                    &topic_name,
+                    PickPlaceEvent::ROS_TYPE_NAME,
+                    ns,
+                    &msg,
+                );
+                if let Err(err) = publisher.async_publish(msg).await {
                     tracing::warn!("events publish failed: {err:?}");
                 }
             }

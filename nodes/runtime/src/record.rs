@@ -248,3 +248,8 @@ pub fn finish() -> Option<Result<(u64, u64), RecordError>> {
         ))),
     })
 }
+
+/// A message stamp (`builtin_interfaces/Time`) as nanoseconds of ROS time.
+pub fn time_ns(t: &motion_msgs::deps::builtin_interfaces::msg::Time) -> i64 {
+    i64::from(t.sec) * 1_000_000_000 + i64::from(t.nanosec)
+}
