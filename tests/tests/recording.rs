@@ -42,6 +42,28 @@ fn python() -> Option<String> {
     })
 }
 
+/// What the PyPI readers make of the recording (`PY`'s lines); None when there is no python
+/// with them (skipped, unless `MOTION_MSGS_REQUIRE_MCAP` is set).
+fn read_back(file: &std::path::Path) -> Option<String> {
+    let Some(py) = python() else {
+        let msg = "no python3 with the mcap-ros2-support package (set MOTION_MSGS_PYTHON)";
+        assert!(std::env::var("MOTION_MSGS_REQUIRE_MCAP").is_err(), "{msg}");
+        eprintln!("SKIPPED: {msg}");
+        return None;
+    };
+    let read = Command::new(&py)
+        .args(["-c", PY])
+        .arg(file)
+        .output()
+        .expect("run python");
+    assert!(
+        read.status.success(),
+        "python failed:\n{}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    Some(String::from_utf8_lossy(&read.stdout).into_owned())
+}
+
 #[test]
 fn the_demo_records_every_state_topic_to_mcap() {
     require_netns();
@@ -63,24 +85,9 @@ fn the_demo_records_every_state_topic_to_mcap() {
         "{log}"
     );
 
-    let Some(py) = python() else {
-        let msg = "no python3 with the mcap-ros2-support package (set MOTION_MSGS_PYTHON)";
-        assert!(std::env::var("MOTION_MSGS_REQUIRE_MCAP").is_err(), "{msg}");
-        eprintln!("SKIPPED: {msg}");
-        return;
-    };
-    let read = Command::new(&py)
-        .args(["-c", PY])
-        .arg(&file)
-        .output()
-        .expect("run python");
+    let got = read_back(&file);
     let _ = std::fs::remove_dir_all(&dir);
-    assert!(
-        read.status.success(),
-        "python failed:\n{}",
-        String::from_utf8_lossy(&read.stderr)
-    );
-    let got = String::from_utf8_lossy(&read.stdout);
+    let Some(got) = got else { return };
     assert!(got.starts_with("profile ros2\n"), "{got}");
     let count = |topic: &str, ty: &str| -> u64 {
         got.lines()
@@ -200,24 +207,9 @@ fn the_launch_config_key_records_events_and_command_status() {
     assert_eq!(head[8], 0x01);
     assert_eq!(&head[17..21], &4u32.to_le_bytes());
     assert_eq!(&head[21..25], b"ros2");
-    let Some(py) = python() else {
-        let msg = "no python3 with the mcap-ros2-support package (set MOTION_MSGS_PYTHON)";
-        assert!(std::env::var("MOTION_MSGS_REQUIRE_MCAP").is_err(), "{msg}");
-        eprintln!("SKIPPED: {msg}");
-        return;
-    };
-    let read = Command::new(&py)
-        .args(["-c", PY])
-        .arg(&file)
-        .output()
-        .expect("run python");
+    let got = read_back(&file);
     let _ = std::fs::remove_dir_all(&dir);
-    let got = String::from_utf8_lossy(&read.stdout);
-    assert!(
-        read.status.success(),
-        "{}",
-        String::from_utf8_lossy(&read.stderr)
-    );
+    let Some(got) = got else { return };
     for topic in [
         "/axis_node/events motion_msgs/msg/AxisEvent ",
         "/axis_node/command_status motion_msgs/msg/CommandStatus ",

@@ -741,6 +741,17 @@ impl Axis {
         }
     }
 
+    /// The axis' default dynamics: AxisMaxVelocity with the default acceleration, deceleration
+    /// and jerk (§1.2), e.g. for a stop that no command asked for.
+    pub fn default_limits(&self) -> Limits {
+        Limits {
+            velocity: self.cfg.max_velocity,
+            acceleration: self.cfg.acceleration,
+            deceleration: self.cfg.deceleration,
+            jerk: self.cfg.jerk,
+        }
+    }
+
     /// The error-reaction dynamics: AxisMaxVelocity with the fast acceleration, deceleration and jerk.
     pub fn fast_limits(&self) -> Limits {
         Limits {

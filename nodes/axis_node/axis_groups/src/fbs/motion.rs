@@ -406,12 +406,7 @@ impl GroupCx<'_> {
                 let l = if fast {
                     a.fast_limits()
                 } else {
-                    Limits {
-                        velocity: a.cfg.max_velocity,
-                        acceleration: a.cfg.acceleration,
-                        deceleration: a.cfg.deceleration,
-                        jerk: a.cfg.jerk,
-                    }
+                    a.default_limits()
                 };
                 let profile = a.plan_stop(&l);
                 let stop = profile.end().pos;

@@ -75,12 +75,7 @@ impl AxisEngine {
             });
             if blocked && !stopping {
                 a.abort_motion(fbs);
-                let l = Limits {
-                    velocity: a.cfg.max_velocity,
-                    acceleration: a.cfg.acceleration,
-                    deceleration: a.cfg.deceleration,
-                    jerk: a.cfg.jerk,
-                };
+                let l = a.default_limits();
                 let profile = a.plan_stop(&l);
                 let stop = profile.end().pos;
                 a.start_job(Job::internal(JobKind::Halt, profile, stop, l));

@@ -43,12 +43,7 @@ impl Axis {
         }
         self.ext.ext_gen.torque_offset = 0.0;
         if self.set.vel.abs() > 1e-9 || self.set.acc.abs() > 1e-9 {
-            let l = Limits {
-                velocity: self.cfg.max_velocity,
-                acceleration: self.cfg.acceleration,
-                deceleration: self.cfg.deceleration,
-                jerk: self.cfg.jerk,
-            };
+            let l = self.default_limits();
             let profile = self.plan_stop(&l);
             let stop = profile.end().pos;
             self.start_job(Job::internal(JobKind::Halt, profile, stop, l));
