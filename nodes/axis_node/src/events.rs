@@ -244,7 +244,6 @@ impl Acknowledgements {
 pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     let err = |what: &'static str| move |e| ShellError(format!("~/events {what}: {e:?}"));
     let name = private_name(&shell.settings, "events")?;
-    let topic_name = name.to_string();
     let topic = shell
         .node
         .create_topic(&name, AxisEvent::type_name(), &events_qos())
@@ -253,6 +252,7 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
         .node
         .create_publisher::<AxisEvent>(&topic, Some(events_qos()))
         .map_err(err("publisher"))?;
+    let publisher = motion_runtime::record::RecordedPublisher::new(publisher, name);
     let mut acks = shell.command_event_tap();
     let handle = shell.handle.clone();
     let period = Duration::from_secs_f64(1.0 / shell.settings.state_rate.max(0.1));
@@ -284,8 +284,7 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
                 e.seq = seq;
                 seq += 1;
                 let at = motion_runtime::record::time_ns(&e.stamp);
-                motion_runtime::record::record(&topic_name, AxisEvent::ROS_TYPE_NAME, at, &e);
-                if let Err(e) = publisher.async_publish(e).await {
+                if let Err(e) = publisher.publish(e, at).await {
                     tracing::warn!("~/events publish failed: {e:?}");
                 }
             }

@@ -407,21 +407,14 @@ fn register_events(
         .node
         .create_publisher::<PickPlaceEvent>(&topic, None)
         .map_err(|e| ShellError(format!("publisher ~/events: {e:?}")))?;
+    let publisher = motion_runtime::record::RecordedPublisher::new(publisher, name);
     let handle = shell.handle.clone();
-    let topic_name = name.to_string();
     shell.spawn(async move {
         while let Some((t, batch)) = events.recv().await {
             let ns = handle.snapshot().ros_time_at(t);
             let at = stamp_ns(ns);
             for e in &batch {
-                let msg = event(e, at.clone());
-                motion_runtime::record::record(
-                    &topic_name,
-                    PickPlaceEvent::ROS_TYPE_NAME,
-                    ns,
-                    &msg,
-                );
-                if let Err(err) = publisher.async_publish(msg).await {
+                if let Err(err) = publisher.publish(event(e, at.clone()), ns).await {
                     tracing::warn!("events publish failed: {err:?}");
                 }
             }

@@ -253,3 +253,26 @@ pub fn finish() -> Option<Result<(u64, u64), RecordError>> {
 pub fn time_ns(t: &motion_msgs::deps::builtin_interfaces::msg::Time) -> i64 {
     i64::from(t.sec) * 1_000_000_000 + i64::from(t.nanosec)
 }
+
+/// A node's publisher whose messages also go to the process's recording, when it records: the
+/// one place where publishing and recording meet (every publisher of the shell and the nodes).
+pub struct RecordedPublisher<M: serde::Serialize> {
+    publisher: ros2_client::Publisher<M>,
+    topic: String,
+}
+
+impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
+    /// Wraps `publisher` of the topic named `topic` (its full ROS name).
+    pub fn new(publisher: ros2_client::Publisher<M>, topic: impl std::fmt::Display) -> Self {
+        RecordedPublisher {
+            publisher,
+            topic: topic.to_string(),
+        }
+    }
+
+    /// Records `msg` at ROS time `stamp_ns` (if this process records), then publishes it.
+    pub async fn publish(&self, msg: M, stamp_ns: i64) -> ros2_client::error::WriteResult<(), M> {
+        record(&self.topic, M::ROS_TYPE_NAME, stamp_ns, &msg);
+        self.publisher.async_publish(msg).await
+    }
+}

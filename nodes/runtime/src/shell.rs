@@ -9,6 +9,7 @@
 //! after a cancel) / Error (Aborted, with the error id in the result).
 
 use crate::cycle::{ControllerHandle, Stamped};
+use crate::record::RecordedPublisher;
 use crate::stats::CycleStats;
 use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, Rejection};
 use motion_msgs::deps::builtin_interfaces::msg::Time;
@@ -427,7 +428,6 @@ where
         mut events: UnboundedReceiver<CommandEvent>,
     ) -> Result<(), ShellError> {
         let name = private_name(&self.settings, "command_status")?;
-        let topic_name = name.to_string();
         let topic = self
             .node
             .create_topic(&name, CommandStatus::type_name(), &topic_qos())
@@ -436,6 +436,7 @@ where
             .node
             .create_publisher::<CommandStatus>(&topic, None)
             .map_err(err("publisher"))?;
+        let publisher = RecordedPublisher::new(publisher, name);
         let registry = self.registry.clone();
         let handle = self.handle.clone();
         let taps = std::mem::take(&mut self.taps);
@@ -464,13 +465,7 @@ where
                         String::new()
                     },
                 };
-                crate::record::record(
-                    &topic_name,
-                    CommandStatus::ROS_TYPE_NAME,
-                    snap.ros_time_ns,
-                    &msg,
-                );
-                if let Err(e) = publisher.async_publish(msg).await {
+                if let Err(e) = publisher.publish(msg, snap.ros_time_ns).await {
                     tracing::warn!("command_status publish failed: {e:?}");
                 }
             }
@@ -513,6 +508,7 @@ where
             .node
             .create_publisher::<DiagnosticArray>(&topic, None)
             .map_err(err("publisher"))?;
+        let publisher = RecordedPublisher::new(publisher, "/diagnostics");
         let handle = self.handle.clone();
         let node_name = self.settings.node_name.clone();
         self.tasks.spawn(async move {
@@ -522,13 +518,7 @@ where
                 let stats = handle.stats();
                 let snap = handle.snapshot();
                 let msg = diagnostics_message(&node_name, &stats, stamp(&snap));
-                crate::record::record(
-                    "/diagnostics",
-                    DiagnosticArray::ROS_TYPE_NAME,
-                    snap.ros_time_ns,
-                    &msg,
-                );
-                if let Err(e) = publisher.async_publish(msg).await {
+                if let Err(e) = publisher.publish(msg, snap.ros_time_ns).await {
                     tracing::warn!("diagnostics publish failed: {e:?}");
                 }
             }
@@ -545,13 +535,12 @@ where
             .node
             .create_publisher::<Clock>(&topic, None)
             .map_err(err("publisher"))?;
+        let publisher = RecordedPublisher::new(publisher, "/clock");
         let mut snaps = self.handle.snapshots();
         self.tasks.spawn(async move {
             while snaps.changed().await.is_ok() {
                 let t = snaps.borrow_and_update().ros_time_ns;
-                let msg = Clock { clock: stamp_ns(t) };
-                crate::record::record("/clock", Clock::ROS_TYPE_NAME, t, &msg);
-                let _ = publisher.async_publish(msg).await;
+                let _ = publisher.publish(Clock { clock: stamp_ns(t) }, t).await;
             }
         });
         Ok(())
@@ -576,6 +565,7 @@ where
             .node
             .create_publisher::<TFMessage>(&topic, None)
             .map_err(err("publisher"))?;
+        let publisher = RecordedPublisher::new(publisher, "/tf_static");
         let [x, y, z, roll, pitch, yaw] = self.settings.tf_pose;
         let msg = TFMessage {
             transforms: vec![TransformStamped {
@@ -591,9 +581,8 @@ where
             }],
         };
         let t = self.handle.snapshot().ros_time_ns;
-        crate::record::record("/tf_static", TFMessage::ROS_TYPE_NAME, t, &msg);
         self.tasks.spawn(async move {
-            if let Err(e) = publisher.async_publish(msg).await {
+            if let Err(e) = publisher.publish(msg, t).await {
                 tracing::warn!("/tf_static publish failed: {e:?}");
             }
             // Kept alive: a transient-local sample lives as long as its writer.
@@ -943,7 +932,6 @@ where
         F: Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
     {
         let name = resolve_name(&self.settings, topic)?;
-        let topic_name = name.to_string();
         let t = self
             .node
             .create_topic(&name, type_name, &topic_qos())
@@ -952,15 +940,14 @@ where
             .node
             .create_publisher::<M>(&t, None)
             .map_err(err("publisher"))?;
+        let publisher = RecordedPublisher::new(publisher, name);
         if self.settings.state_stream {
             // Every streamed cycle, in order (see `spawn_state_stream`).
             let (tx, mut rx) = tokio::sync::mpsc::channel::<Arc<Stamped<E::Snapshot>>>(4);
             self.streams.push(tx);
             self.tasks.spawn(async move {
                 while let Some(snap) = rx.recv().await {
-                    let msg = build(&snap);
-                    crate::record::record(&topic_name, M::ROS_TYPE_NAME, snap.ros_time_ns, &msg);
-                    if let Err(e) = publisher.async_publish(msg).await {
+                    if let Err(e) = publisher.publish(build(&snap), snap.ros_time_ns).await {
                         tracing::warn!("state publish failed: {e:?}");
                     }
                 }
@@ -980,9 +967,7 @@ where
                     continue;
                 }
                 last = snap.cycle;
-                let msg = build(&snap);
-                crate::record::record(&topic_name, M::ROS_TYPE_NAME, snap.ros_time_ns, &msg);
-                if let Err(e) = publisher.async_publish(msg).await {
+                if let Err(e) = publisher.publish(build(&snap), snap.ros_time_ns).await {
                     tracing::warn!("state publish failed: {e:?}");
                 }
             }
