@@ -108,20 +108,21 @@ pub fn load_with(
     kinds: &[NodeKind],
     ros: &RosArgs,
 ) -> Result<Vec<NodeEntry>, ConfigError> {
+    load_launch(path, kinds, ros).map(|(entries, _)| entries)
+}
+
+/// [`load_with`], also returning the config's `record` key (see [`parse_launch`]).
+fn load_launch(
+    path: &Path,
+    kinds: &[NodeKind],
+    ros: &RosArgs,
+) -> Result<(Vec<NodeEntry>, Option<String>), ConfigError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
         location: file.clone(),
         message: format!("cannot read: {e}"),
     })?;
-    parse_with(&text, &file, kinds, ros)
-}
-
-/// The launch config's `record` key: record every published message of every node to this
-/// MCAP file (as `--record FILE`, which takes precedence). Checked by [`parse_with`].
-pub fn record_key(path: &Path) -> Option<String> {
-    let text = std::fs::read_to_string(path).ok()?;
-    let root: serde_yaml::Value = serde_yaml::from_str(&text).ok()?;
-    root.get("record")?.as_str().map(str::to_string)
+    parse_launch(&text, &file, kinds, ros)
 }
 
 /// [`load`] on text (`file` names it in messages).
@@ -136,6 +137,17 @@ pub fn parse_with(
     kinds: &[NodeKind],
     ros: &RosArgs,
 ) -> Result<Vec<NodeEntry>, ConfigError> {
+    parse_launch(text, file, kinds, ros).map(|(entries, _)| entries)
+}
+
+/// [`parse_with`], also returning the config's `record` key (record every published message
+/// of every node to this MCAP file; `--record FILE` takes precedence).
+fn parse_launch(
+    text: &str,
+    file: &str,
+    kinds: &[NodeKind],
+    ros: &RosArgs,
+) -> Result<(Vec<NodeEntry>, Option<String>), ConfigError> {
     let root: serde_yaml::Value = serde_yaml::from_str(text).map_err(|e| ConfigError {
         location: file.into(),
         message: e.to_string(),
@@ -215,7 +227,11 @@ pub fn parse_with(
             engine,
         });
     }
-    Ok(out)
+    let record = map
+        .get("record")
+        .and_then(|v| v.as_str())
+        .map(str::to_string);
+    Ok((out, record))
 }
 
 /// Command line of the launcher and of each node binary.
@@ -288,7 +304,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     };
     let path = args.config.unwrap_or_else(|| default_config.to_string());
     crate::ros_args::install_remaps(args.ros.remaps.clone());
-    let entries = match load_with(Path::new(&path), kinds, &args.ros) {
+    let (entries, record_key) = match load_launch(Path::new(&path), kinds, &args.ros) {
         Ok(e) => e,
         Err(e) => {
             eprintln!("{program}: configuration error: {e}");
@@ -309,7 +325,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
             return 2;
         }
     };
-    let record = args.record.clone().or_else(|| record_key(Path::new(&path)));
+    let record = args.record.clone().or(record_key);
     if let (Some(file), false) = (&record, args.check) {
         if let Err(e) = crate::record::start(Path::new(file)) {
             eprintln!("{program}: cannot record to {file}: {e}");
