@@ -16,6 +16,15 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
+/// A message as it travels over DDS and is recorded: the 4-byte encapsulation header (CDR_LE,
+/// no options), then the CDR body.
+fn serialized<M: serde::Serialize>(msg: &M) -> Result<Vec<u8>, String> {
+    let mut data = vec![0x00, 0x01, 0x00, 0x00];
+    to_writer_with_rep_id(&mut data, msg, RepresentationIdentifier::CDR_LE)
+        .map_err(|e| e.to_string())?;
+    Ok(data)
+}
+
 /// Why a recording could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum RecordError {
@@ -74,9 +83,7 @@ impl Recording {
         stamp_ns: u64,
         msg: &M,
     ) -> Result<(), RecordError> {
-        let mut data = vec![0x00, 0x01, 0x00, 0x00]; // CDR_LE encapsulation, no options
-        to_writer_with_rep_id(&mut data, msg, RepresentationIdentifier::CDR_LE)
-            .map_err(|e| RecordError::Serialize(format!("{topic}: {e}")))?;
+        let data = serialized(msg).map_err(|e| RecordError::Serialize(format!("{topic}: {e}")))?;
         self.write_cdr(topic, ros_type, stamp_ns, &data)
     }
 
@@ -213,10 +220,9 @@ pub fn record<M: serde::Serialize>(topic: &str, ros_type: &'static str, stamp_ns
     let Some(r) = RECORDER.get() else {
         return;
     };
-    let mut data = vec![0x00, 0x01, 0x00, 0x00];
-    if to_writer_with_rep_id(&mut data, msg, RepresentationIdentifier::CDR_LE).is_err() {
+    let Ok(data) = serialized(msg) else {
         return;
-    }
+    };
     let entry = Entry::Message {
         topic: topic.to_string(),
         ros_type,
