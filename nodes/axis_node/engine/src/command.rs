@@ -128,7 +128,7 @@ pub enum AxisCommand {
     /// A platform service: safety, simulation, session (plcopen_platform.md §8–§12).
     Platform(crate::platform::PlatformCommand),
     // ---- phasing, multi-master gearing, external setpoint generator, §4.7 extensions
-    // (modules engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs)
+    // (modules single_axis::set::{phasing, multi_master, ext_setpoint, extensions})
     /// MC_PhasingAbsolute (§4.13.1).
     PhasingAbsolute(PhasingAbsolute),
     /// MC_PhasingRelative (§4.13.2).
@@ -183,22 +183,8 @@ pub enum AxisCommand {
     Ca(crate::ca::CaCommand),
 }
 
-/// The outputs of one FB instance ([`AxisCommand::ReadFbOutputs`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct InstanceOutputs {
-    /// Axis of the instance (the slave for gearing FBs).
-    pub axis: String,
-    /// The FB.
-    pub kind: crate::handshake::FbKind,
-    /// Done/Busy/Active/CommandAborted/Error/ErrorID and the InVelocity-type flags.
-    pub outputs: crate::handshake::FbOutputs,
-    /// MC_MoveSuperImposed: Warning, WarningID and the Actual* outputs.
-    pub superimposed: Option<crate::superposition::SuperImposedOutputs>,
-    /// MC_TouchProbe: RecordedPosition and RecordedData (after the first accepted edge).
-    pub probe: Option<crate::probe::ProbeOutputs>,
-    /// Extra outputs of the phasing, external-setpoint and position-correction FBs.
-    pub extra: Option<ExtraOutputs>,
-}
+// The outputs of one FB instance ([`AxisCommand::ReadFbOutputs`]).
+pub use single_axis::InstanceOutputs;
 
 /// A value returned at once by read-type FBs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -235,6 +221,21 @@ pub struct AxisReply {
     /// True when the id names a tracked FB instance whose outputs follow as events
     /// (false for MC_Power, read FBs and other calls without a lifetime).
     pub tracked: bool,
+}
+
+impl From<single_axis::FbValue> for ReplyValue {
+    fn from(v: single_axis::FbValue) -> Self {
+        use single_axis::FbValue as V;
+        match v {
+            V::None => ReplyValue::None,
+            V::Real(x) => ReplyValue::Real(x),
+            V::Bool(x) => ReplyValue::Bool(x),
+            V::DWord(x) => ReplyValue::DWord(x),
+            V::Status(x) => ReplyValue::Status(x),
+            V::Outputs(x) => ReplyValue::Outputs(x),
+            V::Extension(x) => ReplyValue::Extension(x),
+        }
+    }
 }
 
 impl From<crate::ca::CaReply> for AxisReply {

@@ -1,7 +1,7 @@
-//! The axis node's engine, pure and deterministic: owns the FB calls of the single axis
-//! (screening, admission, FB semantics), the ISG platform profile and the composition
-//! [`AxisEngine`] of these with the [`single_axis`], [`collision_avoidance`] and [`axis_groups`]
-//! (PLCopen Part 4) crates. Must not know: DDS, ROS, clocks or threads (the `axis_node` shell does).
+//! The axis node's engine, pure and deterministic: owns the ISG platform profile and the
+//! composition [`AxisEngine`] of it with the [`single_axis`] (axes and their FB calls),
+//! [`collision_avoidance`] and [`axis_groups`] (PLCopen Part 4) crates. Must not know: DDS,
+//! ROS, clocks or threads (the `axis_node` shell does).
 //! Specifications: `single_axis.md`, `collision_avoidance.md`, `plcopen_platform.md`; user
 //! guide: `docs/axis_node.md`.
 //!
@@ -51,16 +51,20 @@
 //! * Error ids of the platform spec: [`platform::ids`] (1, 4, 4013, 4901…4907, 60241,
 //!   70220, 70225).
 //!
-//! Layers (issue 16): the single axis is its own crate, [`single_axis`] (axis model,
-//! §2 state machine, §3 handshake, BufferMode, parameters, homing, gearing, superposition,
-//! torque, probe, status; it knows nothing of groups, CA or platforms). Its modules are
-//! re-exported here under their old paths ([`state`], [`handshake`], [`buffer`], [`params`],
-//! [`modulo`], [`superposition`], [`probe`], [`calc`], [`config`], ...). This crate adds the FB
-//! calls (`engine`: command screening and FB semantics) and [`platform`] (profile hooks,
-//! safety, start-up); [`group`] (Part 4 groups, crate `axis_groups`) and [`ca`] (collision
-//! avoidance, crate `collision_avoidance`) are re-exported.
+//! Layers (issue 16): the single axis is its own crate, [`single_axis`]: axis model, §2 state
+//! machine, §3 handshake, BufferMode, parameters, homing, gearing, superposition, torque,
+//! probe, status, and the FB calls on a set of axes ([`AxisSet`]: screening, admission, FB
+//! semantics); it knows nothing of groups, CA or platforms. Where the platform profile changes
+//! a single axis, `single_axis` defines the trait ([`single_axis::AxisProfile`]) and
+//! [`platform`] implements it ([`platform::axis_rules`]). Its modules are re-exported here
+//! under their old paths ([`state`], [`handshake`], [`buffer`], [`params`], [`modulo`],
+//! [`superposition`], [`probe`], [`calc`], [`config`], ...). This crate adds [`platform`]
+//! (profile hooks, safety, start-up, raw FB layer) and the composition (`engine`: routing of
+//! each call to its layer, the cycle's order); [`group`] (Part 4 groups, crate
+//! `axis_groups`) and [`ca`] (collision avoidance, crate `collision_avoidance`) are
+//! re-exported.
 //!
-//! Added later, as child modules of `engine` plugged in at one place (`engine/hooks.rs`):
+//! Added later, in `single_axis::set` and routed at one place (`engine/hooks.rs`):
 //! [`phasing`] (§4.13), [`multi_master`] (MC_GearInMultiMaster, §4.12.4), [`ext_setpoint`]
 //! (§4.6) and [`extensions`] (§4.7, MC_ReadParameterSet, MC_ReadAxisComponents,
 //! MC_Write(Bool)ParameterPersistent). For the shell: later inputs of a running
@@ -91,7 +95,7 @@ pub mod snapshot;
 
 // The single axis (its own crate, issue 16): re-exported under the paths this crate and its
 // users have always used.
-use single_axis::{added, axis, gearing, homing, torque};
+use single_axis::axis;
 pub use single_axis::{
     buffer, calc, config, error_ids, extension_inputs, handshake, inputs, modulo, params, probe,
     state, status, superposition,
@@ -100,10 +104,11 @@ pub use single_axis::{
 pub use ca_bench::bench_ring;
 pub use command::*;
 pub use config::{AxisConfig, FollowingModel};
-pub use engine::{ext_setpoint, extensions, multi_master, phasing};
-pub use engine::{AxisEngine, PowerOutputs};
+pub use engine::AxisEngine;
 pub use group::{GroupCommand, GroupConfig, GroupReply, GroupState, GroupStatus};
 pub use handshake::{FbKind, FbOutputs};
 pub use platform::{EngineConfig, PlatformCommand, PlatformProfile};
+pub use single_axis::set::{ext_setpoint, extensions, multi_master, phasing};
+pub use single_axis::{AxisSet, PowerOutputs};
 pub use snapshot::{AxisSnapshot, AxisStatus, ExtValues};
 pub use state::MotionState;

@@ -255,7 +255,7 @@ pub struct Axis {
     pub group_motion: bool,
     /// What the enabled software limits do (Tc2_MC2 §1.3 or R-SYS-1).
     pub travel_limits: TravelLimits,
-    /// State of the phasing / ext. setpoint / §4.7 extension FBs (engine/hooks.rs).
+    /// State of the phasing / ext. setpoint / §4.7 extension FBs (single_axis::set).
     pub ext: crate::added::AxisExt,
 }
 

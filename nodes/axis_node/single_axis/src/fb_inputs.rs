@@ -475,7 +475,7 @@ pub struct Halt {
 }
 
 /// MC_Stop (§4.8.10): stops and locks the axis until Execute falls (see
-/// [`AxisCommand::SetExecute`]).
+/// `AxisCommand::SetExecute` of the axis engine, or [`crate::AxisSet::set_execute`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Stop {
     /// Axis name.

@@ -19,7 +19,7 @@ pub struct Coupling {
     pub s0: f64,
     /// MC_GearInDyn: velocity-type coupling with a slewed ratio.
     pub dynamic: Option<DynCoupling>,
-    /// Phasing offset and MC_GearInMultiMaster data (engine/phasing.rs, multi_master.rs).
+    /// Phasing offset and MC_GearInMultiMaster data (set/phasing.rs, multi_master.rs).
     pub ext: crate::added::CouplingExt,
 }
 

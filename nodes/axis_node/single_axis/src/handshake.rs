@@ -60,7 +60,7 @@ pub enum FbKind {
     TouchProbe,
     /// MC_AbortTrigger.
     AbortTrigger,
-    // ---- engine/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs
+    // ---- set/phasing.rs, multi_master.rs, ext_setpoint.rs, extensions.rs
     /// MC_PhasingAbsolute.
     PhasingAbsolute,
     /// MC_PhasingRelative.
@@ -202,7 +202,7 @@ pub struct Handshake {
     pub probes: HashMap<CmdId, ProbeOutputs>,
     /// Extra outputs of MC_MoveSuperImposed instances.
     pub superimposed: HashMap<CmdId, SuperImposedOutputs>,
-    /// Extra outputs of the phasing / position-correction FBs (engine/hooks.rs).
+    /// Extra outputs of the phasing / position-correction FBs (single_axis::set).
     pub extra: HashMap<CmdId, ExtraOutputs>,
 }
 

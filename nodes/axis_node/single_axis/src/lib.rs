@@ -5,7 +5,10 @@
 //! error reaction), the §2 state machine ([`state`]), the §3 Execute handshake of FB instances
 //! ([`handshake`]), BufferMode arithmetic ([`buffer`]), the §6 parameter table ([`params`]),
 //! the §1.2 configuration ([`config`]), modulo ([`modulo`]), homing, gearing, phasing and
-//! multi-master data, superposition, torque, touch probe, and the NcToPlc status ([`status`]).
+//! multi-master data, superposition, torque, touch probe, the NcToPlc status ([`status`]), and
+//! the FB calls on a set of axes ([`AxisSet`], module [`set`]: input screening, admission,
+//! BufferMode, each FB's semantics, the cycle of all axes). A platform profile changes
+//! single-axis behaviour only through the [`AxisProfile`] trait.
 //! Must not know: axis groups (PLCopen Part 4), collision-avoidance groups, platform profiles
 //! or the ROS shell; they build on this crate's public API.
 
@@ -25,6 +28,7 @@ pub mod inputs;
 pub mod modulo;
 pub mod params;
 pub mod probe;
+pub mod set;
 pub mod state;
 pub mod status;
 pub mod superposition;
@@ -32,4 +36,5 @@ pub mod torque;
 
 pub use config::{AxisConfig, FollowingModel};
 pub use handshake::{FbKind, FbOutputs};
+pub use set::{AxisProfile, AxisSet, FbReply, FbValue, InstanceOutputs, PowerOutputs};
 pub use state::MotionState;

@@ -22,9 +22,9 @@ impl AxisEngine {
     fn group_cx(&mut self) -> GroupCx<'_> {
         GroupCx {
             groups: &mut self.groups,
-            axes: &mut self.axes,
-            index: &self.index,
-            fbs: &mut self.fbs,
+            axes: &mut self.set.axes,
+            index: &self.set.index,
+            fbs: &mut self.set.fbs,
             profile: &mut self.platform,
         }
     }
@@ -36,7 +36,7 @@ impl AxisEngine {
         if let GroupCommand::GroupReset { group } = &cmd {
             let g = self.groups.index_of(group)?;
             for ax in self.group_cx().admit_reset(g)? {
-                self.reset(ax)?;
+                self.set.reset(ax)?;
                 if self.platform.isg() {
                     self.platform.axes[ax].messages.clear();
                 }
@@ -61,7 +61,7 @@ impl AxisEngine {
         );
         if self.platform.isg() && !read {
             if self.platform.version_mismatch {
-                return Err(reject(
+                return Err(Rejection::new(
                     ERR_SIM_VERSION_MISMATCH,
                     format!(
                         "group '{}': HLI version/size mismatch (R-SAF-2)",
@@ -70,7 +70,7 @@ impl AxisEngine {
                 ));
             }
             if self.platform.starting() {
-                return Err(reject(
+                return Err(Rejection::new(
                     ERR_PO_AX_TNA_INIT_STATE,
                     format!("group '{}': order during start-up (§9)", cmd.group()),
                 ));
@@ -88,7 +88,7 @@ impl AxisEngine {
             && self.platform.mode != crate::platform::OperatingMode::Auto
             && !self.platform.enabling_switch
         {
-            return Err(reject(
+            return Err(Rejection::new(
                 ERR_SIM_TRANSITION_NOT_ALLOWED,
                 format!(
                     "group '{}': motion in {:?} needs the enabling switch (R-SAF-5)",
@@ -103,7 +103,7 @@ impl AxisEngine {
             self.platform.isg() && !read && !matches!(cmd, GroupCommand::GroupSetOverride(_));
         let g = self.groups.index_of(cmd.group())?;
         if order && self.groups.list[g].slot && !matches!(cmd, GroupCommand::GroupStop(_)) {
-            return Err(reject(
+            return Err(Rejection::new(
                 FB_ERR_MC_DID_NOT_TAKE_ORDER,
                 format!(
                     "group '{}': the channel's order slot is already used in this cycle (R-HS-3)",
@@ -131,7 +131,7 @@ impl AxisEngine {
         let fb = match cmd.motion_fb_name() {
             Some(fb) => fb,
             None if matches!(cmd, crate::command::AxisCommand::Reset(_))
-                && self.axes[ax].error_id.is_none() =>
+                && self.set.axes[ax].error_id.is_none() =>
             {
                 "MC_Reset"
             }
@@ -143,7 +143,7 @@ impl AxisEngine {
     /// Hook for single-axis commands: a member of a moving/stopping group refuses motion.
     pub(crate) fn group_blocks_axis(&self, ax: usize, fb: &str) -> Result<(), Rejection> {
         self.groups
-            .blocks_axis(ax, fb, &self.axes, self.platform.isg())
+            .blocks_axis(ax, fb, &self.set.axes, self.platform.isg())
     }
 
     /// The group of a command instance's Execute falling edge (MC_GroupStop unlock).
@@ -160,17 +160,18 @@ impl AxisEngine {
 
     /// Outputs of a group instance (the active profile's Execute rules).
     pub fn group_outputs(&self, id: CmdId) -> Option<ExecuteOutputs> {
-        self.groups.outputs(id, self.fbs.cycle, self.platform.isg())
+        self.groups
+            .outputs(id, self.set.fbs.cycle, self.platform.isg())
     }
 
     /// The status of one group (MC_GroupReadStatus and the snapshot).
     pub(crate) fn group_status(&self, g: usize) -> GroupStatus {
-        self.groups.status(g, &self.axes)
+        self.groups.status(g, &self.set.axes)
     }
 
     /// The status of a group by name.
     pub fn group(&self, name: &str) -> Option<GroupStatus> {
-        self.groups.by_name(name, &self.axes)
+        self.groups.by_name(name, &self.set.axes)
     }
 
     /// Group names in configuration order.
@@ -194,6 +195,6 @@ impl AxisEngine {
 
     /// Builds the groups of the configuration (R-ARCH-4).
     pub(crate) fn build_groups(&mut self, cfg: &[GroupConfig]) -> Result<(), Rejection> {
-        self.groups.build(cfg, &self.index, self.axes.len())
+        self.groups.build(cfg, &self.set.index, self.set.axes.len())
     }
 }

@@ -108,7 +108,7 @@ impl AxisEngine {
     /// Builds the platform state from the engine config (per-axis keys must name axes).
     pub(crate) fn build_platform(&mut self, cfg: &EngineConfig) -> Result<(), Rejection> {
         for (name, a) in &cfg.platform.axes {
-            if !self.index.contains_key(name) {
+            if !self.set.index.contains_key(name) {
                 return Err(Rejection::unknown_object("axis", name));
             }
             for (key, v) in [
@@ -139,6 +139,7 @@ impl AxisEngine {
         p.cfg = cfg.platform.clone();
         p.g_order_id = cfg.platform.g_order_id;
         p.axes = self
+            .set
             .axes
             .iter()
             .map(|a| {
@@ -150,15 +151,20 @@ impl AxisEngine {
                 }
             })
             .collect();
-        for ax in 0..self.axes.len() {
+        for ax in 0..self.set.axes.len() {
             self.sync_soft_limits(ax);
             use crate::axis::TravelLimits;
-            self.axes[ax].travel_limits =
+            self.set.axes[ax].travel_limits =
                 match (self.platform.isg(), self.platform.axes[ax].cfg.modulo) {
                     (false, _) => TravelLimits::Planned,
                     (true, false) => TravelLimits::Monitored,
                     (true, true) => TravelLimits::Off,
                 };
+        }
+        if self.platform.isg() {
+            let modulo = self.platform.axes.iter().map(|p| p.cfg.modulo).collect();
+            let rules = super::axis_rules::IsgAxisRules { modulo };
+            self.set.set_profile(Box::new(rules));
         }
         Ok(())
     }
@@ -170,7 +176,7 @@ impl AxisEngine {
             return;
         }
         let p = &mut self.platform.axes[ax];
-        let c = &mut self.axes[ax].cfg;
+        let c = &mut self.set.axes[ax].cfg;
         match (p.referenced, p.soft_limits) {
             (false, None) => {
                 p.soft_limits = Some((c.en_min_soft_pos_limit, c.en_max_soft_pos_limit));
@@ -193,7 +199,7 @@ impl AxisEngine {
         ax: usize,
         cmd: &mut AxisCommand,
     ) -> Result<(), Rejection> {
-        let name = self.axes[ax].name.clone();
+        let name = self.set.axes[ax].name.clone();
         let isg = self.platform.isg();
         let order = places_order(cmd);
         if isg {
@@ -223,13 +229,13 @@ impl AxisEngine {
             // §7.2: instances of an axis in ERROR_STOP show ErrorID 1 (E6: also an enabled
             // MC_ReadActualPosition).
             if matches!(cmd, AxisCommand::ReadActualPosition(_))
-                && !self.axes[ax].error_id.is_none()
+                && !self.set.axes[ax].error_id.is_none()
             {
                 return Err(reject(
                     ERR_PLC_AX_MC,
                     format!(
                         "axis '{name}': in ERROR_STOP (MC error {})",
-                        self.axes[ax].error_id.0
+                        self.set.axes[ax].error_id.0
                     ),
                 ));
             }
@@ -338,7 +344,7 @@ impl AxisEngine {
             Ok(reply) => {
                 if isg && order {
                     if self.platform.order_ids.len() > 4096 {
-                        let (fbs, groups) = (&self.fbs, &self.groups);
+                        let (fbs, groups) = (&self.set.fbs, &self.groups);
                         self.platform.order_ids.retain(|id, _| {
                             fbs.get(*id).is_some() || groups.instances.contains_key(id)
                         });
@@ -364,36 +370,11 @@ impl AxisEngine {
         }
     }
 
-    /// R-SYS-2: on an `isg_mcp` modulo axis that moves, a discrete motion's target lying
-    /// behind the stopping point (with the new command's limits) is replaced by the first
-    /// equivalent position (same value modulo the period) at or beyond it in the travel
-    /// direction: the axis brakes over as many revolutions as needed. Otherwise unchanged.
-    pub(crate) fn platform_modulo_abort_target(
-        &self,
-        ax: usize,
-        target: f64,
-        limits: &motion_core::Limits,
-    ) -> f64 {
-        let a = &self.axes[ax];
-        let v = a.set.vel;
-        if !self.platform.isg() || !self.platform.axes[ax].cfg.modulo || v.abs() <= 1e-9 {
-            return target;
-        }
-        let period = a.cfg.modulo_value;
-        let stop = a.plan_stop(limits).end().pos;
-        let dir = v.signum();
-        let behind = (stop - target) * dir;
-        if behind <= 0.0 {
-            return target;
-        }
-        target + dir * period * (behind / period).ceil()
-    }
-
     /// Records an MC message (§7.2): class > 0 raises the axis error with the reaction.
     pub(crate) fn mc_message(&mut self, ax: usize, error_id: u32, remedy: u16, reaction: u16) {
         self.platform.mc_message(
-            &mut self.axes,
-            &mut self.fbs,
+            &mut self.set.axes,
+            &mut self.set.fbs,
             ax,
             error_id,
             remedy,
@@ -404,7 +385,8 @@ impl AxisEngine {
     /// Safety and simulation services (§8, §12.1).
     pub(crate) fn platform_command(&mut self, c: PlatformCommand) -> Result<AxisReply, Rejection> {
         let ax_of = |e: &Self, n: &str| {
-            e.index
+            e.set
+                .index
                 .get(n)
                 .copied()
                 .ok_or_else(|| Rejection::unknown_object("axis", n))
@@ -436,8 +418,8 @@ impl AxisEngine {
                     && self.platform.safety()
                 {
                     // Drive enables removed: every axis powers off, orders end CommandAborted.
-                    for a in &mut self.axes {
-                        a.switch_off(&mut self.fbs);
+                    for a in &mut self.set.axes {
+                        a.switch_off(&mut self.set.fbs);
                         a.enable = false;
                     }
                     let groups: Vec<usize> = (0..self.groups.list.len()).collect();
@@ -531,7 +513,7 @@ impl AxisEngine {
             }
         }
         Ok(AxisReply {
-            id: self.fbs.untracked_id(),
+            id: self.set.fbs.untracked_id(),
             value,
             tracked: false,
         })
@@ -547,7 +529,7 @@ impl AxisEngine {
             p.slot = None;
         }
         let hold = self.platform.feed_hold();
-        for ax in 0..self.axes.len() {
+        for ax in 0..self.set.axes.len() {
             if self.platform.axes[ax].feed_hold != hold {
                 self.platform.axes[ax].feed_hold = hold;
                 self.apply_feed_hold(ax);
@@ -558,7 +540,7 @@ impl AxisEngine {
     /// Applies the axis' feed-hold level as its effective override (0 while held).
     fn apply_feed_hold(&mut self, ax: usize) {
         let hold = self.platform.axes[ax].feed_hold;
-        let a = &mut self.axes[ax];
+        let a = &mut self.set.axes[ax];
         let pct = if hold {
             0.0
         } else {
@@ -571,10 +553,10 @@ impl AxisEngine {
             .as_mut()
             .filter(|j| j.kind == crate::axis::JobKind::Velocity)
             .and_then(|j| j.owner.take());
-        crate::engine::apply_override(a, pct, &mut self.fbs);
+        single_axis::set::apply_override(a, pct, &mut self.set.fbs);
         if let (Some(id), Some(j)) = (owner, a.job.as_mut()) {
             j.owner = Some(id);
-            if let Some(i) = self.fbs.get_mut(id) {
+            if let Some(i) = self.set.fbs.get_mut(id) {
                 // InVelocity again once the velocity is reached after the hold.
                 i.in_velocity = false;
             }
@@ -594,9 +576,9 @@ impl AxisEngine {
             && self.platform.cycles == u64::from(self.platform.cfg.nr_cycles_chk_mc_runs)
             && self.platform.cfg.auto_power
         {
-            for ax in 0..self.axes.len() {
-                let name = self.axes[ax].name.clone();
-                let _ = self.power(
+            for ax in 0..self.set.axes.len() {
+                let name = self.set.axes[ax].name.clone();
+                let _ = self.set.power(
                     ax,
                     Power {
                         axis: name,
@@ -607,14 +589,14 @@ impl AxisEngine {
                         buffer_mode: BufferMode::Aborting,
                     },
                 );
-                let a = &mut self.axes[ax];
+                let a = &mut self.set.axes[ax];
                 if a.status_pending {
                     a.status_pending = false;
                     a.status = a.controller_on && !a.drive_fault;
                 }
             }
         }
-        for ax in 0..self.axes.len() {
+        for ax in 0..self.set.axes.len() {
             let p = &mut self.platform.axes[ax];
             let v = match p.injected.as_mut() {
                 Some((v, n)) if *n > 0 => {
@@ -623,7 +605,7 @@ impl AxisEngine {
                 }
                 _ => {
                     p.injected = None;
-                    self.axes[ax].act_velo
+                    self.set.axes[ax].act_velo
                 }
             };
             let vel_active = p.velocity_lease == 0;
@@ -633,10 +615,10 @@ impl AxisEngine {
             let limit = p.velocity_limit();
             let tlimit = p.cfg.vb_torq_limit_max;
             let torque = p.torque_limiting;
-            if !self.axes[ax].error_id.is_none() {
+            if !self.set.axes[ax].error_id.is_none() {
                 continue;
             }
-            if self.axes[ax].beyond_travel_limit() {
+            if self.set.axes[ax].beyond_travel_limit() {
                 self.mc_message(ax, MC_LIMIT_REACHED.0, 1, 2);
             } else if vel_active && v.abs() > limit {
                 self.mc_message(ax, MC_ACTUAL_VELOCITY_EXCEEDED.0, 1, 3);
@@ -644,7 +626,7 @@ impl AxisEngine {
                 self.mc_message(ax, MC_ACTUAL_VELOCITY_TORQUE_LIMIT.0, 1, 3);
             }
         }
-        let fbs = &self.fbs;
+        let fbs = &self.set.fbs;
         let axes = &mut self.platform.axes;
         self.platform
             .homes
@@ -656,7 +638,7 @@ impl AxisEngine {
                 Some(s) => !s.is_final(),
                 None => false,
             });
-        for ax in 0..self.axes.len() {
+        for ax in 0..self.set.axes.len() {
             if self.platform.axes[ax].referenced && self.platform.axes[ax].soft_limits.is_some() {
                 self.sync_soft_limits(ax);
             }
@@ -675,7 +657,7 @@ impl AxisEngine {
                 let mapped = self.platform_error_id(e.id, id);
                 if mapped != id {
                     e.state = CommandState::Error(mapped);
-                    if let Some(i) = self.fbs.get_mut(e.id) {
+                    if let Some(i) = self.set.fbs.get_mut(e.id) {
                         i.state = CommandState::Error(mapped);
                     }
                 }
@@ -688,13 +670,9 @@ impl AxisEngine {
         if !self.platform.isg() {
             return id;
         }
-        match self.fbs.get(inst) {
-            Some(i)
-                if !self.axes[i.axis].error_id.is_none() && self.axes[i.axis].error_id == id =>
-            {
-                ERR_PLC_AX_MC
-            }
-            _ => id,
+        match self.set.fbs.get(inst) {
+            Some(i) => super::axis_rules::isg_error_id(&self.set.axes[i.axis], id),
+            None => id,
         }
     }
 
@@ -714,7 +692,7 @@ impl AxisEngine {
                 Vec::new()
             },
             orders: if p.isg() {
-                let axes = self.axes.iter().flat_map(|a| {
+                let axes = self.set.axes.iter().flat_map(|a| {
                     let job = a.job.and_then(|j| j.owner);
                     let pending = a.pending.as_ref().map(|q| q.owner);
                     job.into_iter().chain(pending)
@@ -740,7 +718,7 @@ impl AxisEngine {
             axes: if p.safety() {
                 p.axes
                     .iter()
-                    .zip(&self.axes)
+                    .zip(&self.set.axes)
                     .map(|(s, a)| AxisSafetyStatus {
                         name: a.name.clone(),
                         referenced: s.referenced,

@@ -25,6 +25,7 @@
 //! (accepted in the config). A feed hold (R-SAF-5) is an effective
 //! override of 0 (path-true for groups); overrides written during the hold apply after it.
 
+pub mod axis_rules;
 mod hooks;
 pub use axis_groups::ids;
 pub mod raw;

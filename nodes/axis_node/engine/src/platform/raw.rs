@@ -32,7 +32,7 @@ impl AxisEngine {
         events: &mut Vec<CommandEvent>,
     ) -> Vec<FbOut> {
         // Acknowledgement queues: the axes, then the groups' channels.
-        let n_slots = self.axes.len() + self.groups.list.len();
+        let n_slots = self.set.axes.len() + self.groups.list.len();
         if self.raw.acks.len() != n_slots {
             self.raw.acks = vec![VecDeque::new(); n_slots];
             self.raw.clog_warned = vec![None; n_slots];
@@ -44,7 +44,7 @@ impl AxisEngine {
         // (3) the MC consumes the orders: aborts caused by them first, then ACCEPTED, then
         // what the cycle itself produces (`step` routes raw-owned events to their queues).
         let from = events.len();
-        events.append(&mut self.fbs.events);
+        events.append(&mut self.set.fbs.events);
         let mut accepted = std::mem::take(&mut self.raw.accepted);
         // An order overwritten in its own cycle (MC_Stop / MC_GroupStop, R-HS-4) is
         // acknowledged ACCEPTED before its ABORTED.
@@ -72,7 +72,7 @@ impl AxisEngine {
             let iv = i
                 .engine
                 .last()
-                .and_then(|&id| self.fbs.outputs_with(id, false))
+                .and_then(|&id| self.set.fbs.outputs_with(id, false))
                 .is_some_and(|o| o.in_velocity);
             if iv {
                 let (axis, order_id) = (i.axis, i.order_id);
@@ -298,16 +298,16 @@ impl AxisEngine {
                 .groups
                 .index
                 .get(g.group())
-                .map(|&i| self.axes.len() + i),
-            _ => fb.axis().and_then(|n| self.index.get(n).copied()),
+                .map(|&i| self.set.axes.len() + i),
+            _ => fb.axis().and_then(|n| self.set.index.get(n).copied()),
         }
     }
 
     /// The axis or group name of an acknowledgement queue.
     fn raw_slot_name(&self, slot: usize) -> String {
-        match self.axes.get(slot) {
+        match self.set.axes.get(slot) {
             Some(a) => a.name.clone(),
-            None => self.groups.list[slot - self.axes.len()].name.clone(),
+            None => self.groups.list[slot - self.set.axes.len()].name.clone(),
         }
     }
 

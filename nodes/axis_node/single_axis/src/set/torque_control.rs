@@ -2,10 +2,10 @@
 
 use super::*;
 
-impl AxisEngine {
+impl AxisSet {
     // ------------------------------------------------------------------ MC_TorqueControl
 
-    pub(super) fn torque_inputs(
+    pub(crate) fn torque_inputs(
         name: &str,
         torque: f64,
         ramp: f64,
@@ -36,11 +36,8 @@ impl AxisEngine {
         Ok(())
     }
 
-    pub(super) fn torque_control(
-        &mut self,
-        ax: usize,
-        c: TorqueControl,
-    ) -> Result<AxisReply, Rejection> {
+    /// MC_TorqueControl (§4.14).
+    pub fn torque_control(&mut self, ax: usize, c: TorqueControl) -> Result<FbReply, Rejection> {
         let fb = "MC_TorqueControl";
         let name = self.axes[ax].name.clone();
         Self::torque_inputs(
@@ -108,14 +105,15 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn torque_update(
+    /// A later call of a running MC_TorqueControl started with ContinuousUpdate.
+    pub fn torque_update(
         &mut self,
         id: CmdId,
         torque: f64,
         ramp: f64,
         hi: f64,
         lo: f64,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let inst = self.fbs.get(id).copied().ok_or_else(|| {
             reject(
                 ErrorId::UNKNOWN_OBJECT,

@@ -2,14 +2,60 @@
 
 use super::*;
 
-impl AxisEngine {
-    // ------------------------------------------------------------------ MC_SetPosition
+impl AxisSet {
+    /// MC_ReadParameter (§4.4.5).
+    pub fn read_parameter(&mut self, ax: usize, c: ReadParameter) -> Result<FbReply, Rejection> {
+        let v = self.read_param(ax, "MC_ReadParameter", c.parameter_number, false)?;
+        Ok(self.untracked(FbValue::Real(v)))
+    }
 
-    pub(super) fn set_position(
+    /// MC_ReadBoolParameter (§4.4.5).
+    pub fn read_bool_parameter(
         &mut self,
         ax: usize,
-        c: SetPosition,
-    ) -> Result<AxisReply, Rejection> {
+        c: ReadBoolParameter,
+    ) -> Result<FbReply, Rejection> {
+        let v = self.read_param(ax, "MC_ReadBoolParameter", c.parameter_number, true)?;
+        Ok(self.untracked(FbValue::Bool(v != 0.0)))
+    }
+
+    /// MC_WriteParameter (§4.4.8).
+    pub fn write_parameter(&mut self, ax: usize, c: WriteParameter) -> Result<FbReply, Rejection> {
+        self.write_param(ax, "MC_WriteParameter", c.parameter_number, c.value, false)
+    }
+
+    /// MC_WriteBoolParameter (§4.4.8).
+    pub fn write_bool_parameter(
+        &mut self,
+        ax: usize,
+        c: WriteBoolParameter,
+    ) -> Result<FbReply, Rejection> {
+        let v = c.value as u8 as f64;
+        self.write_param(ax, "MC_WriteBoolParameter", c.parameter_number, v, true)
+    }
+
+    /// MC_ReadActualPosition (§4.4.1).
+    pub fn read_actual_position(&mut self, ax: usize) -> FbReply {
+        let v = self.axes[ax].act_pos;
+        self.untracked(FbValue::Real(v))
+    }
+
+    /// MC_ReadActualVelocity (§4.4.2).
+    pub fn read_actual_velocity(&mut self, ax: usize) -> FbReply {
+        let v = self.axes[ax].act_velo;
+        self.untracked(FbValue::Real(v))
+    }
+
+    /// MC_ReadAxisError (§4.4.4).
+    pub fn read_axis_error(&mut self, ax: usize) -> FbReply {
+        let v = self.axes[ax].error_id.0;
+        self.untracked(FbValue::DWord(v))
+    }
+
+    // ------------------------------------------------------------------ MC_SetPosition
+
+    /// MC_SetPosition (§4.3).
+    pub fn set_position(&mut self, ax: usize, c: SetPosition) -> Result<FbReply, Rejection> {
         let a = &self.axes[ax];
         finite(&a.name, "MC_SetPosition", "Position", c.position)?;
         if c.options.select_encoder_index && c.options.encoder_index != 0 {
@@ -55,7 +101,7 @@ impl AxisEngine {
 
     // ------------------------------------------------------------------ parameters (§4.4)
 
-    pub(super) fn param_def(
+    pub(crate) fn param_def(
         &self,
         ax: usize,
         fb: &str,
@@ -72,7 +118,7 @@ impl AxisEngine {
         })
     }
 
-    pub(super) fn read_param(
+    pub(crate) fn read_param(
         &self,
         ax: usize,
         fb: &str,
@@ -126,14 +172,14 @@ impl AxisEngine {
         })
     }
 
-    pub(super) fn write_param(
+    pub(crate) fn write_param(
         &mut self,
         ax: usize,
         fb: &str,
         number: u32,
         value: f64,
         is_bool: bool,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let def = self.param_def(ax, fb, number)?;
         let name = self.axes[ax].name.clone();
         finite(&name, fb, "Value", value)?;
@@ -190,7 +236,7 @@ impl AxisEngine {
     /// coupling is re-anchored at the current master value so the slave does not jump (the
     /// new ratio applies to the master's further travel); MC_GearInDyn takes it as its
     /// effective ratio and target. Not a coupled slave, or several masters → 0x4B05.
-    pub(super) fn write_gear_ratio(
+    pub(crate) fn write_gear_ratio(
         &mut self,
         ax: usize,
         value: f64,

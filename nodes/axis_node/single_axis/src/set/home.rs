@@ -2,10 +2,11 @@
 
 use super::*;
 
-impl AxisEngine {
+impl AxisSet {
     // ------------------------------------------------------------------ MC_Home (§4.10)
 
-    pub(super) fn home(&mut self, ax: usize, c: Home) -> Result<AxisReply, Rejection> {
+    /// MC_Home (§4.10).
+    pub fn home(&mut self, ax: usize, c: Home) -> Result<FbReply, Rejection> {
         let fb = "MC_Home";
         let a = &self.axes[ax];
         let name = a.name.clone();
@@ -138,7 +139,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn home_cam(&mut self, id: CmdId, cam: bool) -> Result<AxisReply, Rejection> {
+    /// A later call of a running MC_Home with a new bCalibrationCam level.
+    pub fn home_cam(&mut self, id: CmdId, cam: bool) -> Result<FbReply, Rejection> {
         let inst = self.fbs.get(id).copied().ok_or_else(|| {
             reject(
                 ErrorId::UNKNOWN_OBJECT,

@@ -16,18 +16,19 @@
 //! the generator). An axis error or power off disables the generator.
 //! The feed functions (FUNCTION : BOOL, return value always FALSE) only copy their inputs,
 //! whether the generator is enabled or not; bad input (non-finite, Direction ∉ {−1, 0, 1} →
-//! 0x7F03) is refused. TorqueOffset is forwarded (`PlcToNc.ExtTorque`, [`single_axis::added_inputs::ExtStatus`])
+//! 0x7F03) is refused. TorqueOffset is forwarded (`PlcToNc.ExtTorque`, [`crate::added_inputs::ExtStatus`])
 //! only when the generator was enabled with `Options.UseTorqueOffset`.
 
 use super::*;
 use crate::added::*;
 
-impl AxisEngine {
-    pub(super) fn ext_set_point_gen_enable(
+impl AxisSet {
+    /// MC_ExtSetPointGenEnable (§4.6.1).
+    pub fn ext_set_point_gen_enable(
         &mut self,
         ax: usize,
         c: ExtSetPointGenEnable,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_ExtSetPointGenEnable";
         finite(&c.axis, fb, "Position", c.position)?;
         self.admit_state(ax, FbClass::ExtSetPointGenEnable, fb)?;
@@ -56,7 +57,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn ext_set_point_gen_disable(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    /// MC_ExtSetPointGenDisable (§4.6.2).
+    pub fn ext_set_point_gen_disable(&mut self, ax: usize) -> Result<FbReply, Rejection> {
         let fb = "MC_ExtSetPointGenDisable";
         self.admit_state(ax, FbClass::ExtSetPointGenDisable, fb)?;
         let id = self
@@ -69,14 +71,15 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn ext_set_point_gen_feed(
+    /// MC_ExtSetPointGenFeed / MC_ExtSetPointGenFeedWithTorque (§4.6); `fb` names the FB in messages.
+    pub fn ext_set_point_gen_feed(
         &mut self,
         ax: usize,
         fb: &str,
         s: State1,
         direction: i32,
         torque_offset: f64,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let a = &mut self.axes[ax];
         for (f, v) in [
             ("Position", s.pos),
@@ -102,12 +105,12 @@ impl AxisEngine {
         if g.use_torque_offset && g.enabled {
             g.torque_offset = torque_offset;
         }
-        Ok(self.untracked(ReplyValue::Bool(false)))
+        Ok(self.untracked(FbValue::Bool(false)))
     }
 
     /// Motion commands on an axis fed by the external generator (§2.4 note): 0x4B01 unless
     /// AxisAllowMotionCmdToExtSetAxis (1066).
-    pub(super) fn ext_setpoint_admission(
+    pub(crate) fn ext_setpoint_admission(
         &self,
         ax: usize,
         fb: FbClass,
@@ -142,7 +145,7 @@ impl AxisEngine {
     }
 
     /// Before the axis' step: the fed values become the set values. No alloc.
-    pub(super) fn ext_setpoint_step(&mut self, i: usize) {
+    pub(crate) fn ext_setpoint_step(&mut self, i: usize) {
         let a = &mut self.axes[i];
         if !a.ext.ext_gen.enabled {
             return;

@@ -3,10 +3,11 @@
 
 use super::*;
 
-impl AxisEngine {
+impl AxisSet {
     // ------------------------------------------------------------------ gearing (§4.12)
 
-    pub(super) fn gear_in(&mut self, slave: usize, c: GearIn) -> Result<AxisReply, Rejection> {
+    /// MC_GearIn (§4.12.1).
+    pub fn gear_in(&mut self, slave: usize, c: GearIn) -> Result<FbReply, Rejection> {
         let fb = "MC_GearIn";
         let name = self.axes[slave].name.clone();
         let master = self.axis_index(&c.master)?;
@@ -64,11 +65,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn gear_in_dyn(
-        &mut self,
-        slave: usize,
-        c: GearInDyn,
-    ) -> Result<AxisReply, Rejection> {
+    /// MC_GearInDyn (§4.12.2).
+    pub fn gear_in_dyn(&mut self, slave: usize, c: GearInDyn) -> Result<FbReply, Rejection> {
         let fb = "MC_GearInDyn";
         let name = self.axes[slave].name.clone();
         let master = self.axis_index(&c.master)?;
@@ -122,7 +120,7 @@ impl AxisEngine {
                 self.fbs.set_execute(id, false);
                 return Ok(Self::reply(id));
             }
-            return Ok(self.untracked(ReplyValue::None));
+            return Ok(self.untracked(FbValue::None));
         }
         if let (Some(id), Some(mut cp)) = (running, current) {
             // Cyclic update of the running instance.
@@ -185,7 +183,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn gear_out(&mut self, slave: usize) -> Result<AxisReply, Rejection> {
+    /// MC_GearOut (§4.12.3).
+    pub fn gear_out(&mut self, slave: usize) -> Result<FbReply, Rejection> {
         self.admit_state(slave, FbClass::GearOut, "MC_GearOut")?;
         let id = self.fbs.admit(slave, FbKind::GearOut, CommandState::Busy);
         let a = &mut self.axes[slave];

@@ -2,10 +2,10 @@
 
 use super::*;
 
-impl AxisEngine {
+impl AxisSet {
     // ------------------------------------------------------------------ touch probe (§4.5)
 
-    pub(super) fn probe_slot(name: &str, fb: &str, t: &TriggerRef) -> Result<usize, Rejection> {
+    pub(crate) fn probe_slot(name: &str, fb: &str, t: &TriggerRef) -> Result<usize, Rejection> {
         match t.touch_probe {
             TouchProbeUnit::TouchProbe1 => Ok(0),
             TouchProbeUnit::TouchProbe2 => Ok(1),
@@ -17,7 +17,8 @@ impl AxisEngine {
         }
     }
 
-    pub(super) fn touch_probe(&mut self, ax: usize, c: TouchProbe) -> Result<AxisReply, Rejection> {
+    /// MC_TouchProbe (§4.5).
+    pub fn touch_probe(&mut self, ax: usize, c: TouchProbe) -> Result<FbReply, Rejection> {
         let fb = "MC_TouchProbe";
         let name = self.axes[ax].name.clone();
         finite(&name, fb, "FirstPosition", c.first_position)?;
@@ -59,11 +60,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn abort_trigger(
-        &mut self,
-        ax: usize,
-        c: AbortTrigger,
-    ) -> Result<AxisReply, Rejection> {
+    /// MC_AbortTrigger (§4.5).
+    pub fn abort_trigger(&mut self, ax: usize, c: AbortTrigger) -> Result<FbReply, Rejection> {
         let fb = "MC_AbortTrigger";
         let name = self.axes[ax].name.clone();
         let k = Self::probe_slot(&name, fb, &c.trigger_input)?;
@@ -75,11 +73,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn probe_plc_event(
-        &mut self,
-        id: CmdId,
-        level: bool,
-    ) -> Result<AxisReply, Rejection> {
+    /// A later call of a running MC_TouchProbe with a new `TriggerInput.PlcEvent` level.
+    pub fn probe_plc_event(&mut self, id: CmdId, level: bool) -> Result<FbReply, Rejection> {
         let inst = self.fbs.get(id).copied().ok_or_else(|| {
             reject(
                 ErrorId::UNKNOWN_OBJECT,
@@ -99,65 +94,5 @@ impl AxisEngine {
             p.plc_event = level;
         }
         Ok(Self::reply(id))
-    }
-
-    /// Recorded data of an MC_TouchProbe instance (after its first accepted edge).
-    pub fn probe_outputs(&self, id: CmdId) -> Option<crate::probe::ProbeOutputs> {
-        self.fbs.probes.get(&id).copied()
-    }
-
-    /// The outputs of an axis' MC_Power instance (Enable-type, §4.1).
-    pub(super) fn power_instance_outputs(&self, id: CmdId) -> Option<InstanceOutputs> {
-        let a = self.axes.iter().find(|a| a.power_id == Some(id))?;
-        let error = !a.power_error.is_none();
-        let mut outputs = FbOutputs::default();
-        outputs.standard.busy = a.enable;
-        outputs.standard.active = a.enable && a.controller_on;
-        outputs.standard.error = error;
-        outputs.standard.error_id = a.power_error;
-        Some(InstanceOutputs {
-            axis: a.name.clone(),
-            kind: FbKind::Power,
-            outputs,
-            superimposed: None,
-            probe: None,
-            extra: Some(ExtraOutputs::Power {
-                status: a.status,
-                valid: a.enable && !error,
-            }),
-        })
-    }
-
-    pub(super) fn read_fb_outputs(&mut self, id: CmdId) -> Result<AxisReply, Rejection> {
-        if let Some(outputs) = self.power_instance_outputs(id) {
-            return Ok(AxisReply {
-                id,
-                value: ReplyValue::Outputs(Box::new(outputs)),
-                tracked: false,
-            });
-        }
-        let (axis, kind) = self
-            .instance(id)
-            .map(|(a, k)| (a.to_string(), k))
-            .ok_or_else(|| {
-                reject(
-                    ErrorId::UNKNOWN_OBJECT,
-                    format!("unknown command instance {}", id.0),
-                )
-            })?;
-        let outputs = InstanceOutputs {
-            axis,
-            kind,
-            outputs: self.fb_outputs(id).unwrap_or_default(),
-            superimposed: self.superimposed_outputs(id),
-            probe: self.probe_outputs(id),
-            extra: self.extra_outputs(id),
-        };
-        // The instance's own id, so the reply names what was read.
-        Ok(AxisReply {
-            id,
-            value: ReplyValue::Outputs(Box::new(outputs)),
-            tracked: false,
-        })
     }
 }

@@ -23,7 +23,6 @@
 //! [`PhasingUpdate`] calls until Execute falls (§3.2 exception). Simplification: Done, once
 //! TRUE, stays TRUE while a later update moves φ again.
 
-use super::hooks::ExtraOutputs;
 use super::*;
 use crate::added::*;
 use motion_core::Profile1;
@@ -40,7 +39,7 @@ struct PhaseRequest<'a> {
     buffer_mode: BufferMode,
 }
 
-impl AxisEngine {
+impl AxisSet {
     /// Screening shared by the three FBs; returns nothing but errors (axis untouched).
     fn phasing_admission(
         &self,
@@ -117,7 +116,7 @@ impl AxisEngine {
         slave: usize,
         ty: PhasingType,
         r: PhaseRequest,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let (fb, kind) = match ty {
             PhasingType::Absolute => ("MC_PhasingAbsolute", FbKind::PhasingAbsolute),
             _ => ("MC_PhasingRelative", FbKind::PhasingRelative),
@@ -208,11 +207,12 @@ impl AxisEngine {
         self.fbs.extra.insert(job.owner, out);
     }
 
-    pub(super) fn phasing_absolute(
+    /// MC_PhasingAbsolute (§4.13.1).
+    pub fn phasing_absolute(
         &mut self,
         slave: usize,
         c: PhasingAbsolute,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         self.phasing(
             slave,
             PhasingType::Absolute,
@@ -229,11 +229,12 @@ impl AxisEngine {
         )
     }
 
-    pub(super) fn phasing_relative(
+    /// MC_PhasingRelative (§4.13.2).
+    pub fn phasing_relative(
         &mut self,
         slave: usize,
         c: PhasingRelative,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         self.phasing(
             slave,
             PhasingType::Relative,
@@ -250,11 +251,8 @@ impl AxisEngine {
         )
     }
 
-    pub(super) fn halt_phasing(
-        &mut self,
-        slave: usize,
-        c: HaltPhasing,
-    ) -> Result<AxisReply, Rejection> {
+    /// MC_HaltPhasing (§4.13.3).
+    pub fn halt_phasing(&mut self, slave: usize, c: HaltPhasing) -> Result<FbReply, Rejection> {
         let fb = "MC_HaltPhasing";
         let name = self.axes[slave].name.clone();
         finite(&name, fb, "Deceleration", c.deceleration)?;
@@ -291,7 +289,7 @@ impl AxisEngine {
 
     /// Halts the phasing run by instance `id` (a cancelled action goal): an internal
     /// MC_HaltPhasing with the slave's AxisDec/AxisJerk; `id` ends with CommandAborted.
-    pub(super) fn halt_phasing_of(&mut self, slave: usize, id: CmdId) {
+    pub(crate) fn halt_phasing_of(&mut self, slave: usize, id: CmdId) {
         let a = &self.axes[slave];
         let Some(cp) = a
             .coupling
@@ -326,7 +324,8 @@ impl AxisEngine {
         );
     }
 
-    pub(super) fn phasing_update(&mut self, u: PhasingUpdate) -> Result<AxisReply, Rejection> {
+    /// A later call of a running MC_PhasingAbsolute/Relative with ContinuousUpdate.
+    pub fn phasing_update(&mut self, u: PhasingUpdate) -> Result<FbReply, Rejection> {
         let id = u.id;
         let inst = self.fbs.get(id).copied().ok_or_else(|| {
             reject(
@@ -388,7 +387,7 @@ impl AxisEngine {
 
     /// One cycle of the phasing of axis `i` (before the slave follows its master): advances
     /// φ, reports Done, ends commands whose coupling went away. No alloc.
-    pub(super) fn phasing_step(&mut self, i: usize, dt: f64) {
+    pub(crate) fn phasing_step(&mut self, i: usize, dt: f64) {
         self.end_orphan_phasing(i);
         let a = &mut self.axes[i];
         let Some(mut c) = a.coupling else { return };
@@ -425,7 +424,7 @@ impl AxisEngine {
 
     /// Execute of a phasing instance fell: a continuous command stops following updates
     /// (Done shown for one more cycle if not yet reached, §3.1 rule 6).
-    pub(super) fn phasing_execute_fell(&mut self, id: CmdId) {
+    pub(crate) fn phasing_execute_fell(&mut self, id: CmdId) {
         let Some(inst) = self.fbs.get(id).copied() else {
             return;
         };

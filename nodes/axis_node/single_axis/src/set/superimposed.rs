@@ -3,14 +3,15 @@
 
 use super::*;
 
-impl AxisEngine {
+impl AxisSet {
     // ------------------------------------------------------------------ superposition (§4.9)
 
-    pub(super) fn move_superimposed(
+    /// MC_MoveSuperImposed (§4.9).
+    pub fn move_superimposed(
         &mut self,
         ax: usize,
         c: MoveSuperImposed,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_MoveSuperImposed";
         let name = self.axes[ax].name.clone();
         for (f, v) in [
@@ -114,7 +115,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn abort_superposition(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    /// MC_AbortSuperposition (§4.9).
+    pub fn abort_superposition(&mut self, ax: usize) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::AbortSuperposition, "MC_AbortSuperposition")?;
         let id = self
             .fbs

@@ -3,11 +3,95 @@
 
 use super::*;
 
-impl AxisEngine {
+/// A move FB: its dynamics screened (§3.5), then admitted through the buffer logic (§3.6).
+macro_rules! positioning {
+    ($s:ident, $ax:expr, $c:expr, $kind:ident, $req:expr) => {{
+        let fb = concat!("MC_", stringify!($kind));
+        let l = move_limits(
+            &$s.axes[$ax],
+            fb,
+            Some($c.velocity),
+            $c.acceleration,
+            $c.deceleration,
+            $c.jerk,
+        )?;
+        $s.motion($ax, FbKind::$kind, fb, $req, l, $c.buffer_mode, $c.options)
+    }};
+}
+
+impl AxisSet {
+    // ------------------------------------------------------------------ the FB calls
+
+    /// MC_MoveAbsolute (§4.8.1).
+    pub fn move_absolute(&mut self, ax: usize, c: MoveAbsolute) -> Result<FbReply, Rejection> {
+        finite(&c.axis, "MC_MoveAbsolute", "Position", c.position)?;
+        positioning!(self, ax, c, MoveAbsolute, Request::Absolute(c.position))
+    }
+
+    /// MC_MoveRelative (§4.8.2).
+    pub fn move_relative(&mut self, ax: usize, c: MoveRelative) -> Result<FbReply, Rejection> {
+        finite(&c.axis, "MC_MoveRelative", "Distance", c.distance)?;
+        positioning!(self, ax, c, MoveRelative, Request::Relative(c.distance))
+    }
+
+    /// MC_MoveAdditive (§4.8.3).
+    pub fn move_additive(&mut self, ax: usize, c: MoveAdditive) -> Result<FbReply, Rejection> {
+        finite(&c.axis, "MC_MoveAdditive", "Distance", c.distance)?;
+        positioning!(self, ax, c, MoveAdditive, Request::Additive(c.distance))
+    }
+
+    /// MC_MoveModulo (§4.8.4).
+    pub fn move_modulo(&mut self, ax: usize, c: MoveModulo) -> Result<FbReply, Rejection> {
+        finite(&c.axis, "MC_MoveModulo", "Position", c.position)?;
+        let req = Request::Modulo {
+            position: c.position,
+            direction: c.direction,
+        };
+        positioning!(self, ax, c, MoveModulo, req)
+    }
+
+    /// MC_MoveVelocity (§4.8.6).
+    pub fn move_velocity(&mut self, ax: usize, c: MoveVelocity) -> Result<FbReply, Rejection> {
+        positioning!(self, ax, c, MoveVelocity, Request::Velocity(c.direction))
+    }
+
+    /// MC_MoveContinuousAbsolute (§4.8.7).
+    pub fn move_continuous_absolute(
+        &mut self,
+        ax: usize,
+        c: MoveContinuousAbsolute,
+    ) -> Result<FbReply, Rejection> {
+        let fb = "MC_MoveContinuousAbsolute";
+        finite(&c.axis, fb, "Position", c.position)?;
+        let ev = end_velocity(&self.axes[ax], fb, c.end_velocity)?;
+        let req = Request::ContinuousAbsolute(c.position, ev);
+        positioning!(self, ax, c, MoveContinuousAbsolute, req)
+    }
+
+    /// MC_MoveContinuousRelative (§4.8.8).
+    pub fn move_continuous_relative(
+        &mut self,
+        ax: usize,
+        c: MoveContinuousRelative,
+    ) -> Result<FbReply, Rejection> {
+        let fb = "MC_MoveContinuousRelative";
+        finite(&c.axis, fb, "Distance", c.distance)?;
+        let ev = end_velocity(&self.axes[ax], fb, c.end_velocity)?;
+        let req = Request::ContinuousRelative(c.distance, ev);
+        positioning!(self, ax, c, MoveContinuousRelative, req)
+    }
+
+    /// MC_Halt (§4.8.9).
+    pub fn halt(&mut self, ax: usize, c: Halt) -> Result<FbReply, Rejection> {
+        let l = self.halt_limits(ax, "MC_Halt", c.deceleration, c.jerk)?;
+        let (mode, options) = (c.buffer_mode, c.options);
+        self.motion(ax, FbKind::Halt, "MC_Halt", Request::Halt, l, mode, options)
+    }
+
     // ------------------------------------------------------------------ motion FBs
 
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn motion(
+    pub(crate) fn motion(
         &mut self,
         ax: usize,
         kind: FbKind,
@@ -16,7 +100,7 @@ impl AxisEngine {
         limits: Limits,
         mode: BufferMode,
         options: MoveOptions,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let class = match req {
             Request::Velocity(_)
             | Request::ContinuousAbsolute(..)
@@ -177,7 +261,8 @@ impl AxisEngine {
                 monitor: options.enable_stop_position_monitoring,
             },
         };
-        // R-SYS-2 (`isg_mcp` modulo axes): a discrete motion started while moving.
+        // A profile may move the target of a discrete motion started while moving (ISG:
+        // R-SYS-2 on modulo axes).
         let spec = match spec {
             Spec::Position {
                 target,
@@ -185,7 +270,9 @@ impl AxisEngine {
                 monitor,
             } if !buffered && matches!(req, Request::Absolute(_) | Request::Relative(_)) => {
                 Spec::Position {
-                    target: self.platform_modulo_abort_target(ax, target, &limits),
+                    target: self
+                        .profile
+                        .target_while_moving(ax, &self.axes[ax], target, &limits),
                     limits,
                     monitor,
                 }
@@ -280,7 +367,7 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn halt_limits(
+    pub(crate) fn halt_limits(
         &self,
         ax: usize,
         fb: &str,
@@ -305,7 +392,8 @@ impl AxisEngine {
         })
     }
 
-    pub(super) fn stop(&mut self, ax: usize, c: Stop) -> Result<AxisReply, Rejection> {
+    /// MC_Stop (§4.8.10).
+    pub fn stop(&mut self, ax: usize, c: Stop) -> Result<FbReply, Rejection> {
         let limits = self.halt_limits(ax, "MC_Stop", c.deceleration, c.jerk)?;
         if self.admit_motion(ax, FbClass::Stop, "MC_Stop", BufferMode::Aborting)? {
             self.axes[ax].decouple_keep_velocity();

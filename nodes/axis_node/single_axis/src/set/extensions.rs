@@ -13,7 +13,7 @@
 //!   correction is bookkeeping: the closed position loop keeps the corrected actual position
 //!   on the set position (ActPos and the state machine are unchanged) and the correction shows
 //!   as `ActPosWithoutPosCorrection = ActPos − correction` and as the drive set position
-//!   `SetPos − correction` ([`single_axis::added_inputs::ExtStatus`]). All three need
+//!   `SetPos − correction` ([`crate::added_inputs::ExtStatus`]). All three need
 //!   AxisEnablePosCorrection (1046) = TRUE, else 0x4B04 (TwinCAT doc for the backlash FB;
 //!   applied to all three, proposal). They are Enable-type: Enable↑ starts an instance (reply
 //!   id), calls with Enable TRUE update its inputs (same id), Enable↓ ends it (Done, outputs
@@ -36,17 +36,16 @@
 //! * MC_SetAcceptBlockedDriveSignal (§4.7.8, FUNCTION : BOOL, return value always FALSE):
 //!   ControlDWord bit 8; while TRUE the position-lag monitoring raises no error.
 //! * MC_WriteNcIoOutput (§4.7.11): a 32-bit image per device and output,
-//!   `new = (old AND NOT mask) OR (values AND mask)`, published in [`single_axis::added_inputs::ExtStatus`].
+//!   `new = (old AND NOT mask) OR (values AND mask)`, published in [`crate::added_inputs::ExtStatus`].
 //! * MC_ReadParameterSet (§4.4.6), MC_ReadAxisComponents (§4.4.3), MC_ReadDriveAddress (§4.7.6):
 //!   filled from the configuration (one encoder, controller and drive per axis with the axis
 //!   id; NetId 127.0.0.1.1.1, port 0; encoder type Simulation, axis type Continious).
 //!   Execute-type: the reply carries the value, the instance is Done in the next cycle.
 //! * MC_Write(Bool)ParameterPersistent (§4.4.9): written like MC_Write(Bool)Parameter and kept
-//!   in the axis' initialization list ([`AxisEngine::persistent_parameters`]). The engine does
+//!   in the axis' initialization list ([`AxisSet::persistent_parameters`]). The engine does
 //!   no I/O: storing the list in a file keyed by a configuration hash and re-applying it at
-//!   start ([`AxisEngine::apply_persistent_parameters`]) is the shell's job.
+//!   start ([`AxisSet::apply_persistent_parameters`]) is the shell's job.
 
-use super::hooks::ExtraOutputs;
 use super::*;
 use crate::added::*;
 
@@ -88,7 +87,7 @@ fn interpolate(t: &[PositionCompensationTableElement], p: f64) -> f64 {
 
 const COUNTER: f64 = 4_294_967_296.0;
 
-impl AxisEngine {
+impl AxisSet {
     fn need_pos_correction(&self, ax: usize, fb: &str) -> Result<(), Rejection> {
         let a = &self.axes[ax];
         if a.cfg.enable_pos_correction {
@@ -106,10 +105,10 @@ impl AxisEngine {
     }
 
     /// An instantaneous Execute-type command: Busy now, Done in the next cycle.
-    fn instant(&mut self, ax: usize, kind: FbKind, value: ReplyValue) -> AxisReply {
+    fn instant(&mut self, ax: usize, kind: FbKind, value: FbValue) -> FbReply {
         let id = self.fbs.admit(ax, kind, CommandState::Busy);
         self.instant_done.push(id);
-        AxisReply {
+        FbReply {
             id,
             value,
             tracked: true,
@@ -117,24 +116,26 @@ impl AxisEngine {
     }
 
     /// Ends an Enable-type instance at Enable↓ (Done, outputs reset).
-    fn end_enable_instance(&mut self, id: CmdId) -> AxisReply {
+    fn end_enable_instance(&mut self, id: CmdId) -> FbReply {
         self.fbs.done(id);
         self.fbs.set_execute(id, false);
         Self::reply(id)
     }
 
-    pub(super) fn read_drive_operation_mode(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    /// MC_ReadDriveOperationMode (§4.7.1).
+    pub fn read_drive_operation_mode(&mut self, ax: usize) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::DriveOperationMode, "MC_ReadDriveOperationMode")?;
         let m = self.axes[ax].ext.x.drive_mode;
-        let v = ReplyValue::Extension(Box::new(ExtensionValue::DriveOperationMode(m)));
+        let v = FbValue::Extension(Box::new(ExtensionValue::DriveOperationMode(m)));
         Ok(self.instant(ax, FbKind::ReadDriveOperationMode, v))
     }
 
-    pub(super) fn write_drive_operation_mode(
+    /// MC_WriteDriveOperationMode (§4.7.1).
+    pub fn write_drive_operation_mode(
         &mut self,
         ax: usize,
         c: WriteDriveOperationMode,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         self.admit_state(
             ax,
             FbClass::DriveOperationMode,
@@ -146,19 +147,20 @@ impl AxisEngine {
             m => m,
         };
         x.torque_seen = false;
-        Ok(self.instant(ax, FbKind::WriteDriveOperationMode, ReplyValue::None))
+        Ok(self.instant(ax, FbKind::WriteDriveOperationMode, FbValue::None))
     }
 
-    pub(super) fn backlash_compensation(
+    /// MC_BacklashCompensation (§4.7.2).
+    pub fn backlash_compensation(
         &mut self,
         ax: usize,
         c: BacklashCompensation,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_BacklashCompensation";
         let running = self.axes[ax].ext.x.backlash.map(|b| b.owner);
         if !c.enable {
             let Some(id) = running else {
-                return Ok(self.untracked(ReplyValue::None));
+                return Ok(self.untracked(FbValue::None));
             };
             let x = &mut self.axes[ax].ext.x;
             // DisableMode as given with this call (inputs are read every call, §3.4).
@@ -213,16 +215,17 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn position_correction_limiter(
+    /// MC_PositionCorrectionLimiter (§4.7.5).
+    pub fn position_correction_limiter(
         &mut self,
         ax: usize,
         c: PositionCorrectionLimiter,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_PositionCorrectionLimiter";
         let running = self.axes[ax].ext.x.limiter;
         if !c.enable {
             let Some(l) = running else {
-                return Ok(self.untracked(ReplyValue::None));
+                return Ok(self.untracked(FbValue::None));
             };
             self.axes[ax].ext.x.limiter = None;
             return Ok(self.end_enable_instance(l.owner));
@@ -284,16 +287,17 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn table_based_position_compensation(
+    /// MC_TableBasedPositionCompensation (§4.7.12).
+    pub fn table_based_position_compensation(
         &mut self,
         ax: usize,
         c: TableBasedPositionCompensation,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_TableBasedPositionCompensation";
         let running = self.axes[ax].ext.x.table.as_ref().map(|t| t.owner);
         if !c.enable {
             let Some(id) = running else {
-                return Ok(self.untracked(ReplyValue::None));
+                return Ok(self.untracked(FbValue::None));
             };
             let x = &mut self.axes[ax].ext.x;
             x.table = None;
@@ -386,7 +390,8 @@ impl AxisEngine {
         Ok(Self::reply(id))
     }
 
-    pub(super) fn read_drive_address(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    /// MC_ReadDriveAddress (§4.7.6).
+    pub fn read_drive_address(&mut self, ax: usize) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::ReadWrite, "MC_ReadDriveAddress")?;
         let id = self.axes[ax].cfg.axis_id;
         let d = DriveAddress {
@@ -406,15 +411,16 @@ impl AxisEngine {
             tc_encoder_object_id: 0,
             tc_axis_object_id: 0,
         };
-        let v = ReplyValue::Extension(Box::new(ExtensionValue::DriveAddress(d)));
+        let v = FbValue::Extension(Box::new(ExtensionValue::DriveAddress(d)));
         Ok(self.instant(ax, FbKind::ReadDriveAddress, v))
     }
 
-    pub(super) fn select_control_loop(
+    /// MC_SelectControlLoop (§4.7.7).
+    pub fn select_control_loop(
         &mut self,
         ax: usize,
         c: SelectControlLoop,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_SelectControlLoop";
         let name = self.axes[ax].name.clone();
         finite(&name, fb, "SyncValue", c.sync_value)?;
@@ -438,23 +444,25 @@ impl AxisEngine {
         }
         self.admit_state(ax, FbClass::Correction, fb)?;
         self.axes[ax].ext.x.control_loop_index = 0;
-        Ok(self.instant(ax, FbKind::SelectControlLoop, ReplyValue::None))
+        Ok(self.instant(ax, FbKind::SelectControlLoop, FbValue::None))
     }
 
-    pub(super) fn set_accept_blocked_drive_signal(
+    /// MC_SetAcceptBlockedDriveSignal (§4.7.8).
+    pub fn set_accept_blocked_drive_signal(
         &mut self,
         ax: usize,
         c: SetAcceptBlockedDriveSignal,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         self.axes[ax].ext.accept_blocked_drive = c.enable;
-        Ok(self.untracked(ReplyValue::Bool(false)))
+        Ok(self.untracked(FbValue::Bool(false)))
     }
 
-    pub(super) fn set_encoder_scaling_factor(
+    /// MC_SetEncoderScalingFactor (§4.7.9).
+    pub fn set_encoder_scaling_factor(
         &mut self,
         ax: usize,
         c: SetEncoderScalingFactor,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_SetEncoderScalingFactor";
         let name = self.axes[ax].name.clone();
         finite(&name, fb, "ScalingFactor", c.scaling_factor)?;
@@ -503,40 +511,43 @@ impl AxisEngine {
             SetScalingFactorMode::Relative => a.cfg.encoder_offset = new,
         }
         a.cfg.encoder_scaling_factor = c.scaling_factor;
-        Ok(self.instant(ax, FbKind::SetEncoderScalingFactor, ReplyValue::None))
+        Ok(self.instant(ax, FbKind::SetEncoderScalingFactor, FbValue::None))
     }
 
-    pub(super) fn write_nc_io_output(
+    /// MC_WriteNcIoOutput (§4.7.11).
+    pub fn write_nc_io_output(
         &mut self,
         ax: usize,
         c: WriteNcIoOutput,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::ReadWrite, "MC_WriteNcIoOutput")?;
         let img =
             &mut self.axes[ax].ext.x.nc_io[c.device.raw() as usize][c.nc_io_output.raw() as usize];
         *img = (*img & !c.bit_select_mask) | (c.bit_values & c.bit_select_mask);
-        Ok(self.instant(ax, FbKind::WriteNcIoOutput, ReplyValue::None))
+        Ok(self.instant(ax, FbKind::WriteNcIoOutput, FbValue::None))
     }
 
-    pub(super) fn convert_inc_pos_to_pos(
+    /// MC_ConvertIncPosToPos (§4.7.13).
+    pub fn convert_inc_pos_to_pos(
         &mut self,
         ax: usize,
         c: ConvertIncPosToPos,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::ReadWrite, "MC_ConvertIncPosToPos")?;
         let a = &self.axes[ax];
         let (f, off) = (a.cfg.encoder_scaling_factor, a.cfg.encoder_offset);
         let now = ((a.act_pos - off) / f).round().rem_euclid(COUNTER) as u32;
         let diff = c.inc_pos.wrapping_sub(now) as i32;
         let pos = a.act_pos + diff as f64 * f;
-        Ok(self.untracked(ReplyValue::Real(pos)))
+        Ok(self.untracked(FbValue::Real(pos)))
     }
 
-    pub(super) fn convert_pos_to_inc_pos(
+    /// MC_ConvertPosToIncPos (§4.7.13).
+    pub fn convert_pos_to_inc_pos(
         &mut self,
         ax: usize,
         c: ConvertPosToIncPos,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_ConvertPosToIncPos";
         let a = &self.axes[ax];
         finite(&a.name, fb, "Position", c.position)?;
@@ -556,10 +567,11 @@ impl AxisEngine {
         }
         self.admit_state(ax, FbClass::ReadWrite, fb)?;
         let inc = ((c.position - off) / f).round().rem_euclid(COUNTER) as u32;
-        Ok(self.untracked(ReplyValue::DWord(inc)))
+        Ok(self.untracked(FbValue::DWord(inc)))
     }
 
-    pub(super) fn read_parameter_set(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    /// MC_ReadParameterSet (§4.4.6).
+    pub fn read_parameter_set(&mut self, ax: usize) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::ReadWrite, "MC_ReadParameterSet")?;
         let a = &self.axes[ax];
         let c = &a.cfg;
@@ -614,16 +626,17 @@ impl AxisEngine {
             acceleration_max: c.fast_acceleration,
             deceleration_max: c.fast_deceleration,
         };
-        let v = ReplyValue::Extension(Box::new(ExtensionValue::ParameterSet(set)));
+        let v = FbValue::Extension(Box::new(ExtensionValue::ParameterSet(set)));
         Ok(self.instant(ax, FbKind::ReadParameterSet, v))
     }
 
-    pub(super) fn read_axis_components(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    /// MC_ReadAxisComponents (§4.4.3).
+    pub fn read_axis_components(&mut self, ax: usize) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::ReadWrite, "MC_ReadAxisComponents")?;
         let id = self.axes[ax].cfg.axis_id;
         let mut ids = [0u32; 9];
         ids[0] = id;
-        let v = ReplyValue::Extension(Box::new(ExtensionValue::AxisComponents(AxisComponents {
+        let v = FbValue::Extension(Box::new(ExtensionValue::AxisComponents(AxisComponents {
             encoder_ids: ids,
             controller_ids: ids,
             drive_ids: ids,
@@ -632,12 +645,12 @@ impl AxisEngine {
     }
 
     /// MC_Write(Bool)ParameterPersistent: written, then kept in the initialization list.
-    pub(super) fn write_param_persistent(
+    pub fn write_param_persistent(
         &mut self,
         ax: usize,
         c: WriteParameter,
         is_bool: bool,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = if is_bool {
             "MC_WriteBoolParameterPersistent"
         } else {
@@ -688,7 +701,7 @@ impl AxisEngine {
     }
 
     /// After the axis' step: drive mode follow-up and the position corrections. No alloc.
-    pub(super) fn extensions_step(&mut self, i: usize, dt: f64) {
+    pub(crate) fn extensions_step(&mut self, i: usize, dt: f64) {
         let a = &mut self.axes[i];
         let v = a.set.vel;
         let x = &mut a.ext.x;

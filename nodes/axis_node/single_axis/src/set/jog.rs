@@ -2,10 +2,11 @@
 
 use super::*;
 
-impl AxisEngine {
+impl AxisSet {
     // ------------------------------------------------------------------ MC_Jog (§4.11)
 
-    pub(super) fn jog(&mut self, ax: usize, c: Jog) -> Result<AxisReply, Rejection> {
+    /// MC_Jog (§4.11).
+    pub fn jog(&mut self, ax: usize, c: Jog) -> Result<FbReply, Rejection> {
         let fb = "MC_Jog";
         let a = &self.axes[ax];
         let name = a.name.clone();

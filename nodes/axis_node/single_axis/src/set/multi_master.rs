@@ -35,12 +35,13 @@ use crate::added::*;
 pub use crate::added::{GearInMultiMasterOptions, GearInMultiMasterSyncMode};
 use crate::gearing::Coupling;
 
-impl AxisEngine {
-    pub(super) fn gear_in_multi_master(
+impl AxisSet {
+    /// MC_GearInMultiMaster (§4.12.4): Enable↑ = new instance, calls with Enable TRUE = new inputs.
+    pub fn gear_in_multi_master(
         &mut self,
         slave: usize,
         c: GearInMultiMaster,
-    ) -> Result<AxisReply, Rejection> {
+    ) -> Result<FbReply, Rejection> {
         let fb = "MC_GearInMultiMaster";
         let name = self.axes[slave].name.clone();
         let ratios = [c.gear_ratio1, c.gear_ratio2, c.gear_ratio3, c.gear_ratio4];
@@ -86,7 +87,7 @@ impl AxisEngine {
                 self.fbs.set_execute(id, false);
                 return Ok(Self::reply(id));
             }
-            return Ok(self.untracked(ReplyValue::None));
+            return Ok(self.untracked(FbValue::None));
         }
         if let (Some(id), Some(mut cp)) = (running, self.axes[slave].coupling) {
             // Cyclic update of the running instance (ratios, dynamics).
@@ -280,7 +281,7 @@ impl AxisEngine {
 
     /// Before the slave's step: this cycle's master values; ends an instance whose coupling
     /// went away (CommandAborted, or Error with the axis error id). No alloc.
-    pub(super) fn multi_master_step(&mut self, i: usize) {
+    pub(crate) fn multi_master_step(&mut self, i: usize) {
         self.end_orphan_multi(i);
         let Some(mut c) = self.axes[i].coupling else {
             return;

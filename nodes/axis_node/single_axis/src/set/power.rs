@@ -3,10 +3,11 @@
 
 use super::*;
 
-impl AxisEngine {
+impl AxisSet {
     // ------------------------------------------------------------------ MC_Power
 
-    pub(crate) fn power(&mut self, ax: usize, c: Power) -> Result<AxisReply, Rejection> {
+    /// MC_Power (§4.1).
+    pub fn power(&mut self, ax: usize, c: Power) -> Result<FbReply, Rejection> {
         // The axis' one MC_Power instance: the same id on every call (read with ReadFbOutputs).
         let id = match self.axes[ax].power_id {
             Some(id) => id,
@@ -83,16 +84,17 @@ impl AxisEngine {
         }
         // The reply carries MC_Power.Status at this call (TRUE one cycle after Enable↑).
         let status = self.axes[ax].status;
-        Ok(AxisReply {
+        Ok(FbReply {
             id,
-            value: ReplyValue::Bool(status),
+            value: FbValue::Bool(status),
             tracked: false,
         })
     }
 
     // ------------------------------------------------------------------ MC_Reset
 
-    pub(crate) fn reset(&mut self, ax: usize) -> Result<AxisReply, Rejection> {
+    /// MC_Reset (§4.2).
+    pub fn reset(&mut self, ax: usize) -> Result<FbReply, Rejection> {
         self.admit_state(ax, FbClass::Reset, "MC_Reset")?;
         let id = self.fbs.admit(ax, FbKind::Reset, CommandState::Busy);
         let a = &mut self.axes[ax];
@@ -139,11 +141,8 @@ impl AxisEngine {
 
     // ------------------------------------------------------------------ MC_SetOverride
 
-    pub(super) fn set_override(
-        &mut self,
-        ax: usize,
-        c: SetOverride,
-    ) -> Result<AxisReply, Rejection> {
+    /// MC_SetOverride (§4.7.10).
+    pub fn set_override(&mut self, ax: usize, c: SetOverride) -> Result<FbReply, Rejection> {
         let fb = "MC_SetOverride";
         let a = &mut self.axes[ax];
         for (f, v) in [
@@ -170,7 +169,7 @@ impl AxisEngine {
             let p = a.power_override;
             apply_override(a, p, &mut self.fbs);
         }
-        Ok(self.untracked(ReplyValue::None))
+        Ok(self.untracked(FbValue::None))
     }
 
     /// MC_SetOverride.Enabled of the axis.
