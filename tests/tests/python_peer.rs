@@ -29,7 +29,9 @@ fn run_peer_test_with(script: &str, domain: u16, loss: Option<u32>) {
     // of the DDS library), the group is killed, so no orphan holds the pipes open for ever.
     use std::io::Read;
     use std::os::unix::process::CommandExt;
+    // A crash inside the DDS library (SIGSEGV) then shows the Python stack in the output.
     let mut child = cmd
+        .args(["-X", "faulthandler"])
         .arg(workspace().join("tests/peer").join(script))
         .env("MOTION_LAUNCH_BIN", launcher())
         .env("ROS_DOMAIN_ID", domain.to_string())
