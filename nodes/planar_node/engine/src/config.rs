@@ -16,7 +16,7 @@
 //! ```
 //! Tracks (`tracks: [{name: T1, oid: 0x01050001, part_oid: 0x01010020, geometry: [...]}]`)
 //! get their geometry from the init parameters (`starts_from`, `geometry`, `ends_at`,
-//! `closed_loop`, applied at start-up by [`crate::track::init`]) and/or the commands; virtual master axes
+//! `closed_loop`, applied at start-up by `build::tracks`) and/or the commands; virtual master axes
 //! (`axes: [{name: X}]`, §5.8.4) drive GearInPosOnTrack.
 
 use crate::errors::reject;

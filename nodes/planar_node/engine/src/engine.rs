@@ -1,270 +1,36 @@
-//! `PlanarEngine`: the object model, command admission and the cycle (xplanar.md §1–§3, §5).
-//!
-//! Commands are admitted at once (no queue, §2.4): a new command aborts the active command
-//! of its axis domain. `step` advances parts, state machines and set points by one cycle;
-//! the no-overlap guard ([`crate::guard`]) runs on every cycle.
+//! [`PlanarEngine`]: the objects ([`Objects`]) and the track subsystem ([`TrackSystem`]),
+//! each with its own state, composed into the commands and the cycle's stages (xplanar.md
+//! §1–§3, §5). The no-overlap guard ([`crate::guard`]) runs on every cycle.
 
-use crate::admission::{admissible, AdmissionContext, CommandKind};
-use crate::command::{ObjectKind, PlanarCommand};
-use crate::config::PlanarConfig;
-use crate::errors::*;
-use crate::geometry::{boundary_elements, tiles_overlap, ConvexPolygon, V2};
-use crate::guard::Grid;
-use crate::motion::{
-    in_c_window, modulo_target, range_in_one_window, stop_range, Axis1, Kin2, PathPlan,
-};
-use crate::objects::{Environment, Esg, Group, Mover, Part, Setpoint};
-use crate::snapshot::*;
-use crate::state::{Accepted, PlanarStateMachine, Timing};
-use crate::types::*;
-use motion_core::trajectory::State1;
-use motion_core::{CmdId, CommandEvent, CommandState, Engine, ErrorId, Rejection, Tick};
-use std::collections::HashMap;
+use crate::command::PlanarCommand;
+use crate::errors::error_name;
+use crate::objects::Objects;
+use crate::snapshot::{PlanarReply, PlanarSnapshot};
+use crate::track::TrackSystem;
+use crate::types::{PlanarObjectInfo, PositionXYC};
+use motion_core::{CmdId, CommandEvent, Engine, ErrorId, Rejection, Tick};
 
-/// The XPlanar engine (part 1: free movement, groups, parts; no tracks yet).
+/// The XPlanar engine: the objects and the track subsystem, each with its own state.
 pub struct PlanarEngine {
-    pub(crate) timing: Timing,
-    pub(crate) cycle_time: f64,
-    pub(crate) part_move_time: f64,
-    pub(crate) esg_timeout_cycles: u32,
-    pub(crate) time: f64,
-    pub(crate) coordinate_systems: Vec<u32>,
-    pub(crate) env: Environment,
-    pub(crate) parts: Vec<Part>,
-    pub(crate) movers: Vec<Mover>,
-    pub(crate) groups: Vec<Group>,
-    pub(crate) mover_idx: HashMap<String, usize>,
-    pub(crate) group_idx: HashMap<String, usize>,
-    pub(crate) part_idx: HashMap<String, usize>,
-    pub(crate) next_id: u64,
-    /// Status changes produced by `command`, reported in the next `step`.
-    pub(crate) pending: Vec<CommandEvent>,
-    pub(crate) grid: Grid,
-    pub(crate) scratch: Vec<u32>,
-    pub(crate) last_object_info: PlanarObjectInfo,
-    /// Tracks in configuration order (§1.6).
-    pub(crate) tracks: Vec<crate::track::Track>,
-    pub(crate) track_idx: HashMap<String, usize>,
-    /// False while every mover is on one track (the guard grid is skipped, see step_motion).
-    pub(crate) guard_full: bool,
-    /// Switches of the track network (§5.6.4), rebuilt after geometry and link changes.
-    pub(crate) switches: Vec<crate::track::Switch>,
-    /// Virtual master axes (§5.8.4).
-    pub(crate) axes: Vec<crate::track::VirtualAxis>,
-    pub(crate) axis_idx: HashMap<String, usize>,
-}
-
-pub(crate) fn ev(events: &mut Vec<CommandEvent>, id: CmdId, state: CommandState) {
-    events.push(CommandEvent { id, state });
-}
-
-/// A motion command of mover `m` takes over: its warning (W_DYNAMICS_REDUCED when the
-/// dynamics had to be reduced), Active, and the reply carrying that warning.
-pub(crate) fn started(
-    events: &mut Vec<CommandEvent>,
-    m: &mut Mover,
-    id: CmdId,
-    reduced: bool,
-) -> Result<PlanarReply, Rejection> {
-    m.warning = if reduced {
-        W_DYNAMICS_REDUCED
-    } else {
-        ErrorId::NONE
-    };
-    ev(events, id, CommandState::Active);
-    Ok(PlanarReply {
-        id,
-        warning_id: m.warning,
-        value: ReplyValue::None,
-    })
-}
-
-pub(crate) fn end(events: &mut Vec<CommandEvent>, slot: &mut Option<CmdId>, state: CommandState) {
-    if let Some(id) = slot.take() {
-        ev(events, id, state);
-    }
-}
-
-pub(crate) fn traj_err(who: &str, e: motion_core::trajectory::TrajectoryError) -> Rejection {
-    reject(E_INVALID_PARAMETER, format!("{who}: {e}"))
+    pub(crate) objects: Objects,
+    pub(crate) tracks: TrackSystem,
 }
 
 impl PlanarEngine {
-    /// The objects of `cfg` (environment, parts, movers, groups, tracks without their init
-    /// parameters, virtual axes); [`PlanarEngine::new`] (build.rs) adds the tracks' init.
-    pub(crate) fn with_objects(cfg: &PlanarConfig) -> Result<Self, Rejection> {
-        cfg.validate()?;
-        let (env_oid, mover_oids, group_oids) = cfg.resolved_oids();
-        let timing = Timing {
-            enable_time: cfg.enable_time,
-            disable_time: cfg.disable_time,
-            reset_time: cfg.reset_time,
-            error_pending_time: cfg.error_pending_time,
-        };
-        let parts: Vec<Part> = cfg
-            .parts
-            .iter()
-            .map(|p| Part {
-                name: p.name.clone(),
-                oid: p.oid,
-                tiles: p.tiles.iter().map(|t| V2::new(t[0], t[1])).collect(),
-                positions: p.positions.clone(),
-                index: p.initial_index,
-                sm: PlanarStateMachine::default(),
-                initialized: false,
-                force_disabled: false,
-                transit: None,
-            })
-            .collect();
-        let mut movers = Vec::with_capacity(cfg.movers.len());
-        let mut max_diag: f64 = 1.0;
-        for (i, m) in cfg.movers.iter().enumerate() {
-            let (cs, origin) = if parts.is_empty() {
-                (
-                    cfg.coordinate_systems.first().copied().unwrap_or(0),
-                    V2::zeros(),
-                )
-            } else {
-                let p = if m.part_oid == 0 {
-                    &parts[0]
-                } else {
-                    parts.iter().find(|p| p.oid == m.part_oid).unwrap()
-                };
-                p.origin()
-            };
-            let pos = origin + V2::new(m.initial_pose.x, m.initial_pose.y);
-            let mut mv = Mover {
-                name: m.name.clone(),
-                oid: mover_oids[i],
-                cfg: m.clone(),
-                sm: PlanarStateMachine::default(),
-                object_info: PlanarObjectInfo::default(),
-                mode: CommandMode::Invalid,
-                cs,
-                xy: Kin2::at_rest(pos),
-                path: None,
-                c: Axis1::at(m.initial_pose.c),
-                z: Axis1::at(m.z_range[0].max(0.0).min(m.z_range[1])),
-                a: Axis1::at(0.0f64.clamp(m.a_range[0], m.a_range[1])),
-                b: Axis1::at(0.0f64.clamp(m.b_range[0], m.b_range[1])),
-                xy_cmd: None,
-                c_cmd: None,
-                z_cmd: None,
-                a_cmd: None,
-                b_cmd: None,
-                halt_cmd: None,
-                guard_stop: false,
-                esg: None,
-                offset: Setpoint::default(),
-                group: None,
-                reserved: None,
-                envelope: ConvexPolygon::aabb_box(V2::zeros(), V2::zeros()),
-                warning: ErrorId::NONE,
-                c_mode: CCoordinateMode::Independent,
-                track: None,
-                joining: None,
-                leaving: None,
-            };
-            mv.envelope = mv.footprint();
-            max_diag = max_diag.max(mv.diag());
-            movers.push(mv);
-        }
-        let groups = cfg
-            .groups
-            .iter()
-            .enumerate()
-            .map(|(i, g)| Group {
-                name: g.name.clone(),
-                oid: group_oids[i],
-                sm: PlanarStateMachine::default(),
-                movers: vec![],
-                environment: false,
-            })
-            .collect::<Vec<_>>();
-        let mover_idx = movers
-            .iter()
-            .enumerate()
-            .map(|(i, m)| (m.name.clone(), i))
-            .collect();
-        let group_idx = groups
-            .iter()
-            .enumerate()
-            .map(|(i, g)| (g.name.clone(), i))
-            .collect();
-        let part_frames: Vec<crate::track::PartFrame> = parts
-            .iter()
-            .map(|p| {
-                let (cs, origin) = p.origin();
-                crate::track::PartFrame {
-                    oid: p.oid,
-                    cs,
-                    origin,
-                }
-            })
-            .collect();
-        let (tracks, track_idx) = crate::track::build_tracks(cfg, &part_frames);
-        let (axes, axis_idx) = crate::track::build_axes(cfg);
-        let part_idx = parts
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (p.name.clone(), i))
-            .collect();
-        let eng = PlanarEngine {
-            timing,
-            cycle_time: cfg.cycle_time,
-            part_move_time: cfg.part_move_time,
-            esg_timeout_cycles: cfg.esg_timeout_cycles,
-            time: 0.0,
-            coordinate_systems: if cfg.coordinate_systems.is_empty() {
-                vec![0]
-            } else {
-                cfg.coordinate_systems.clone()
-            },
-            env: Environment {
-                name: cfg.environment.name.clone(),
-                oid: env_oid,
-                processing_unit_oid: cfg.environment.processing_unit_oid,
-                stators: vec![],
-                boundary: None,
-                group: None,
-            },
-            parts,
-            movers,
-            groups,
-            mover_idx,
-            group_idx,
-            part_idx,
-            next_id: 1,
-            pending: Vec::new(),
-            grid: Grid::new(2.0 * max_diag),
-            scratch: Vec::new(),
-            last_object_info: PlanarObjectInfo::default(),
-            tracks,
-            track_idx,
-            axes,
-            axis_idx,
-            switches: Vec::new(),
-            guard_full: true,
-        };
-        Ok(eng)
-    }
-
     /// The configured cycle time \[s\].
     pub fn cycle_time(&self) -> f64 {
-        self.cycle_time
+        self.objects.cycle_time()
     }
 
     /// `objectInfo` of the last E_COLLISION (rejection or guard stop): the blocking object (§6.1).
     pub fn last_object_info(&self) -> PlanarObjectInfo {
-        self.last_object_info
+        self.objects.last_object_info()
     }
 
     /// Converts a position with ReferenceId (CS OID, part OID or 0) into its coordinate
     /// system (§1.3, §1.4); the result's `reference_id` is the CS OID.
     pub fn resolve_position(&self, p: &PositionXYC) -> Result<PositionXYC, Rejection> {
-        p.check_finite("resolve_position", "position")?;
-        let (cs, v) = self.resolve("resolve_position", p.x, p.y, p.reference_id)?;
-        Ok(PositionXYC::with_ref(v.x, v.y, p.c, cs))
+        self.objects.resolve_position(p)
     }
 
     /// The same point in the local system of the named part (part at its current position,
@@ -274,351 +40,19 @@ impl PlanarEngine {
         p: &PositionXYC,
         part: &str,
     ) -> Result<Option<PositionXYC>, Rejection> {
-        let cs_pos = self.resolve_position(p)?;
-        let part = &self.parts[self.part(part)?];
-        let (cs, o) = part.origin();
-        Ok((cs == cs_pos.reference_id)
-            .then(|| PositionXYC::with_ref(cs_pos.x - o.x, cs_pos.y - o.y, p.c, part.oid)))
+        self.objects.to_part_local(p, part)
     }
 
-    pub(crate) fn new_id(&mut self) -> CmdId {
-        let id = CmdId(self.next_id);
-        self.next_id += 1;
-        id
-    }
-
-    pub(crate) fn mover(&self, name: &str) -> Result<usize, Rejection> {
-        self.mover_idx
-            .get(name)
-            .copied()
-            .ok_or_else(|| Rejection::unknown_object("mover", name))
-    }
-
-    fn group(&self, name: &str) -> Result<usize, Rejection> {
-        self.group_idx
-            .get(name)
-            .copied()
-            .ok_or_else(|| Rejection::unknown_object("group", name))
-    }
-
-    fn part(&self, name: &str) -> Result<usize, Rejection> {
-        self.part_idx
-            .get(name)
-            .copied()
-            .ok_or_else(|| Rejection::unknown_object("part", name))
-    }
-
-    // ------------------------------------------------------------------ coordinates (§1.3, §1.4)
-
-    fn parts_static(&self) -> bool {
-        self.parts.iter().all(|p| p.positions.len() == 1)
-    }
-
-    /// Resolves (x, y, ReferenceId) to (CS, point in that CS).
-    pub(crate) fn resolve(
+    /// GetPositionAt without a command: the pose at `arc_length` in the track's current part
+    /// position. Pure, so the shell can sample whole tracks through the runtime's read-only
+    /// query path (drawing markers must not flood `~/command_status`).
+    pub fn track_position_at(
         &self,
-        who: &str,
-        x: f64,
-        y: f64,
-        reference_id: u32,
-    ) -> Result<(u32, V2), Rejection> {
-        if reference_id == 0 {
-            if self.coordinate_systems.len() == 1 && self.parts_static() {
-                return Ok((self.coordinate_systems[0], V2::new(x, y)));
-            }
-            return Err(reject(
-                E_INVALID_REFERENCE_ID,
-                format!("{who}: ReferenceId 0 is only valid with one coordinate system and static parts"),
-            ));
-        }
-        if self.coordinate_systems.contains(&reference_id) {
-            return Ok((reference_id, V2::new(x, y)));
-        }
-        if let Some(p) = self.parts.iter().find(|p| p.oid == reference_id) {
-            let (cs, o) = p.origin();
-            return Ok((cs, o + V2::new(x, y)));
-        }
-        Err(reject(
-            E_INVALID_REFERENCE_ID,
-            format!(
-                "{who}: ReferenceId 0x{reference_id:08X} is neither a coordinate system nor a part"
-            ),
-        ))
-    }
-
-    /// Stator tiles of a CS (parts at their current positions, else added stators); empty =
-    /// unbounded plane.
-    pub(crate) fn area_tiles(&self, cs: u32) -> Vec<V2> {
-        if self.parts.is_empty() {
-            return self.env.stators.clone();
-        }
-        let mut t = vec![];
-        for p in &self.parts {
-            let (pcs, o) = p.origin();
-            if pcs == cs {
-                t.extend(p.tiles.iter().map(|x| x + o));
-            }
-        }
-        t
-    }
-
-    pub(crate) fn part_of(&self, m: &Mover) -> Option<usize> {
-        let p = m.xy_out().pos;
-        self.parts.iter().position(|part| part.contains(m.cs, p))
-    }
-
-    fn check_in_area(&self, who: &str, cs: u32, p: V2) -> Result<(), Rejection> {
-        let tiles = self.area_tiles(cs);
-        if (!self.parts.is_empty() || !tiles.is_empty())
-            && crate::geometry::tile_containing(&tiles, p).is_none()
-        {
-            return Err(reject(
-                E_TARGET_UNREACHABLE,
-                format!(
-                    "{who}: target ({}, {}) is outside the stator area",
-                    p.x, p.y
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    // ------------------------------------------------------------------ common checks
-
-    pub(crate) fn require_enabled(&self, i: usize, what: &str) -> Result<(), Rejection> {
-        let m = &self.movers[i];
-        if m.sm.state != PlanarState::Enabled {
-            return Err(reject(
-                E_INVALID_STATE,
-                format!(
-                    "mover '{}': {what} requires state Enabled, is {:?}",
-                    m.name, m.sm.state
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    pub(crate) fn require_mode(
-        &self,
-        i: usize,
-        kind: CommandKind,
-        what: &str,
-    ) -> Result<(), Rejection> {
-        let m = &self.movers[i];
-        let ctx = AdmissionContext {
-            standing: m.xy_standing(),
-            esg_active: m.esg.is_some(),
-        };
-        if !admissible(kind, m.mode, ctx) {
-            return Err(reject(
-                E_INVALID_COMMAND_MODE,
-                format!(
-                    "mover '{}': {what} not allowed in command mode {:?}{}",
-                    m.name,
-                    m.mode,
-                    if ctx.standing { "" } else { " while moving" }
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    pub(crate) fn require_group_ready(&self, i: usize) -> Result<(), Rejection> {
-        if let Some(g) = self.movers[i].group {
-            let g = &self.groups[g];
-            if g.sm.state != PlanarState::Enabled {
-                return Err(reject(
-                    E_GROUP_NOT_READY,
-                    format!(
-                        "mover '{}': its group '{}' is {:?}",
-                        self.movers[i].name, g.name, g.sm.state
-                    ),
-                ));
-            }
-        }
-        Ok(())
-    }
-
-    pub(crate) fn require_part_still(&self, i: usize) -> Result<(), Rejection> {
-        if let Some(p) = self.part_of(&self.movers[i]) {
-            if self.parts[p].transit.is_some() {
-                return Err(reject(
-                    E_INVALID_STATE,
-                    format!(
-                        "mover '{}': its part '{}' is moving",
-                        self.movers[i].name, self.parts[p].name
-                    ),
-                ));
-            }
-        }
-        Ok(())
-    }
-
-    /// Area a member currently reserves in its group (§5.11).
-    pub(crate) fn reservation(&self, j: usize) -> ConvexPolygon {
-        let m = &self.movers[j];
-        match &m.reserved {
-            Some(r) => *r,
-            None => m.footprint(),
-        }
-    }
-
-    pub(crate) fn collision(&mut self, who: &str, info: PlanarObjectInfo, name: &str) -> Rejection {
-        self.last_object_info = info;
-        reject(
-            E_COLLISION,
-            format!(
-                "{who}: area blocked by {:?} '{name}' (oid 0x{:08X})",
-                info.object_type, info.id
-            ),
-        )
-        .with_object(motion_core::ObjectRef {
-            kind: info.object_type as u16,
-            id: info.id,
-        })
-    }
-
-    /// Group reservation check of a swept area (§5.11); without a group, the area must not
-    /// run into a mover that stands idle (task: commands that would collide are refused).
-    pub(crate) fn check_swept(&mut self, i: usize, swept: &ConvexPolygon) -> Result<(), Rejection> {
-        let who = format!("mover '{}'", self.movers[i].name);
-        let cs = self.movers[i].cs;
-        if let Some(g) = self.movers[i].group {
-            for k in 0..self.groups[g].movers.len() {
-                let j = self.groups[g].movers[k];
-                if j != i && self.movers[j].cs == cs && swept.intersects(&self.reservation(j)) {
-                    let (oid, name) = (self.movers[j].oid, self.movers[j].name.clone());
-                    return Err(self.collision(
-                        &who,
-                        PlanarObjectInfo {
-                            object_type: PlanarObjectType::Mover,
-                            id: oid,
-                        },
-                        &name,
-                    ));
-                }
-            }
-            if self.groups[g].environment {
-                let tiles = self.area_tiles(cs);
-                if !swept.inside_tiles(&tiles) {
-                    let (oid, name) = (self.env.oid, self.env.name.clone());
-                    return Err(self.collision(
-                        &who,
-                        PlanarObjectInfo {
-                            object_type: PlanarObjectType::Environment,
-                            id: oid,
-                        },
-                        &name,
-                    ));
-                }
-            }
-        }
-        // Outside a group there are no collision checks (§3.2): the command is accepted, and
-        // a contact on the way is a crash (see `crash`).
-        let grouped = self.movers[i].group.is_some();
-        for j in 0..self.movers.len() {
-            let o = &self.movers[j];
-            if !grouped || j == i || o.cs != cs || !o.at_rest() || o.xy_cmd.is_some() {
-                continue;
-            }
-            if swept.intersects(&o.footprint()) {
-                let (oid, name) = (o.oid, o.name.clone());
-                return Err(self.collision(
-                    &who,
-                    PlanarObjectInfo {
-                        object_type: PlanarObjectType::Mover,
-                        id: oid,
-                    },
-                    &name,
-                ));
-            }
-        }
-        // §5.11: Moving member tracks of the mover's group block their area.
-        self.check_moving_tracks(i, swept)
-    }
-
-    fn snapshot_mover(&self, m: &Mover) -> MoverSnapshot {
-        let part = self.part_of(m);
-        let o = &m.offset;
-        let xy = m.xy_out();
-        let busy_xyc = m.xy_cmd.is_some()
-            || m.halt_cmd.is_some()
-                && (m.path.is_some() || m.track.as_ref().is_some_and(|t| t.plan.is_some()))
-            || m.esg
-                .as_ref()
-                .is_some_and(|e| e.mode == ExternalSetpointMode::Absolute);
-        let busy = BusyFlags {
-            busy_xyc,
-            busy_c: m.c_cmd.is_some(),
-            busy_z: m.z_cmd.is_some(),
-            busy_a: m.a_cmd.is_some(),
-            busy_b: m.b_cmd.is_some(),
-            busy_mover: busy_xyc
-                || m.c_cmd.is_some()
-                || m.z_cmd.is_some()
-                || m.a_cmd.is_some()
-                || m.b_cmd.is_some()
-                || m.halt_cmd.is_some()
-                || m.esg.is_some(),
-        };
-        MoverSnapshot {
-            name: m.name.clone(),
-            oid: m.oid,
-            state: m.sm.state,
-            command_mode: if m.sm.state == PlanarState::Enabled {
-                m.mode
-            } else {
-                CommandMode::Invalid
-            },
-            busy,
-            group_oid: m.group.map(|g| self.groups[g].oid).unwrap_or(0),
-            group: m.group.map(|g| self.groups[g].name.clone()),
-            part_oid: part.map(|p| self.parts[p].oid).unwrap_or(0),
-            part: part.map(|p| self.parts[p].name.clone()),
-            coordinate_system_oid: m.cs,
-            error_id: m.sm.error_id,
-            error_reaction: m.sm.reaction,
-            external_setpoint_mode: m
-                .esg
-                .as_ref()
-                .map(|e| e.mode)
-                .unwrap_or(ExternalSetpointMode::None),
-            warning_id: m.warning,
-            object_info: m.object_info,
-            set_pos: m.pose(),
-            set_velo: MoverVector {
-                x: xy.vel.x,
-                y: xy.vel.y,
-                z: m.z.vel + o.vel.z,
-                a: m.a.vel + o.vel.a,
-                b: m.b.vel + o.vel.b,
-                c: m.c.vel + o.vel.c,
-            },
-            set_acc: MoverVector {
-                x: xy.acc.x,
-                y: xy.acc.y,
-                z: m.z.acc + o.acc.z,
-                a: m.a.acc + o.acc.a,
-                b: m.b.acc + o.acc.b,
-                c: m.c.acc + o.acc.c,
-            },
-            c_coordinate_mode: m.c_mode,
-            active: ActiveCommands {
-                xy: m.xy_cmd.or(m.halt_cmd),
-                c: m.c_cmd,
-                z: m.z_cmd,
-                a: m.a_cmd,
-                b: m.b_cmd,
-                external_setpoint: m.esg.as_ref().map(|e| e.session),
-            },
-            on_track: self.on_track_snapshot(m),
-            joining_or_leaving: m
-                .joining
-                .map(|j| j.0)
-                .or(m.leaving)
-                .map(|k| self.tracks[k].name.clone()),
-        }
+        track: &str,
+        arc_length: f64,
+    ) -> Result<PositionXYC, Rejection> {
+        self.tracks
+            .track_position_at(&self.objects, track, arc_length)
     }
 }
 
@@ -628,15 +62,15 @@ impl Engine for PlanarEngine {
     type Snapshot = PlanarSnapshot;
 
     fn command(&mut self, cmd: PlanarCommand) -> Result<PlanarReply, Rejection> {
-        self.last_object_info = PlanarObjectInfo::default();
-        self.dispatch(cmd)
+        self.objects.last_object_info = PlanarObjectInfo::default();
+        self.objects.dispatch(&mut self.tracks, cmd)
     }
 
     /// `Halt(fb)` of every mover with its default deceleration and jerk (§4.7); a mover that
     /// cannot take it (not enabled, in error) is left as it is.
     fn fail_safe_stop(&mut self) {
-        for i in 0..self.movers.len() {
-            let mover = self.movers[i].name.clone();
+        for i in 0..self.objects.movers.len() {
+            let mover = self.objects.movers[i].name.clone();
             let _ = self.command(PlanarCommand::Halt {
                 mover,
                 constraint: crate::types::DynamicConstraint::default(),
@@ -651,79 +85,23 @@ impl Engine for PlanarEngine {
             .all(|m| m.set_velo.to_array().iter().all(|v| *v == 0.0))
     }
 
+    /// One cycle in stages: parts move (carrying their tracks), state machines, the tracks'
+    /// cycle (modes, switches, gear-in), the virtual axes, then every mover's motion under
+    /// the no-overlap guard (movers on a track through the track's gap control).
     fn step(&mut self, tick: Tick, events: &mut Vec<CommandEvent>) {
         let dt = tick.dt;
-        self.step_parts(dt);
-        self.step_states(dt);
-        self.step_tracks(dt);
-        self.step_axes(dt);
-        self.step_motion(dt);
-        self.time += dt;
-        events.append(&mut self.pending);
+        let (objects, tracks) = (&mut self.objects, &mut self.tracks);
+        objects.step_parts(tracks, dt);
+        objects.step_states(tracks, dt);
+        tracks.step_tracks(objects, dt);
+        tracks.step_axes(objects, dt);
+        objects.step_motion(tracks, dt);
+        objects.time += dt;
+        events.append(&mut objects.pending);
     }
 
     fn snapshot(&self) -> PlanarSnapshot {
-        PlanarSnapshot {
-            time: self.time,
-            environment: EnvironmentSnapshot {
-                name: self.env.name.clone(),
-                oid: self.env.oid,
-                group_oid: self.env.group.map(|g| self.groups[g].oid).unwrap_or(0),
-                stator_count: if self.parts.is_empty() {
-                    self.env.stators.len()
-                } else {
-                    self.parts.iter().map(|p| p.tiles.len()).sum()
-                },
-                boundary_element_count: self.env.boundary.unwrap_or(0),
-                part_count: self.parts.len(),
-                added_stators: self.env.stators.iter().map(|v| [v.x, v.y]).collect(),
-            },
-            movers: self.movers.iter().map(|m| self.snapshot_mover(m)).collect(),
-            groups: self
-                .groups
-                .iter()
-                .enumerate()
-                .map(|(gi, g)| GroupSnapshot {
-                    name: g.name.clone(),
-                    oid: g.oid,
-                    state: g.sm.state,
-                    member_count: g.movers.len()
-                        + g.environment as usize
-                        + self.tracks.iter().filter(|t| t.group == Some(gi)).count(),
-                    tracks: self
-                        .tracks
-                        .iter()
-                        .filter(|t| t.group == Some(gi))
-                        .map(|t| t.name.clone())
-                        .collect(),
-                    movers: g
-                        .movers
-                        .iter()
-                        .map(|&j| self.movers[j].name.clone())
-                        .collect(),
-                    environment_member: g.environment,
-                })
-                .collect(),
-            parts: self
-                .parts
-                .iter()
-                .map(|p| {
-                    let (cs, o) = p.origin();
-                    PartSnapshot {
-                        name: p.name.clone(),
-                        oid: p.oid,
-                        state: p.sm.state,
-                        position_index: p.index,
-                        position: PositionXYC::with_ref(o.x, o.y, 0.0, cs),
-                        disable_forced: p.force_disabled,
-                        is_initialized: p.initialized,
-                        moving: p.transit.is_some(),
-                    }
-                })
-                .collect(),
-            tracks: self.track_snapshots(),
-            axes: self.axis_snapshots(),
-        }
+        self.objects.snapshot(&self.tracks)
     }
 
     /// Every accepted command has an id whose events follow (instant ones end Done at once).
@@ -736,32 +114,6 @@ impl Engine for PlanarEngine {
     }
 
     fn cancel(&mut self, id: CmdId) -> Result<(), Rejection> {
-        for i in 0..self.movers.len() {
-            let m = &self.movers[i];
-            if m.xy_cmd == Some(id)
-                || m.c_cmd == Some(id)
-                || m.z_cmd == Some(id)
-                || m.a_cmd == Some(id)
-                || m.b_cmd == Some(id)
-            {
-                let name = m.name.clone();
-                return self
-                    .dispatch(PlanarCommand::Halt {
-                        mover: name,
-                        constraint: DynamicConstraint::default(),
-                    })
-                    .map(|_| ());
-            }
-            if m.esg.as_ref().is_some_and(|e| e.session == id) {
-                return self.stop_esg(i).map(|_| ());
-            }
-        }
-        Ok(())
+        self.objects.cancel(&mut self.tracks, id)
     }
 }
-
-// The engine's methods by concept: child modules (its private helpers are theirs too).
-mod cycle;
-mod dispatch;
-mod environment;
-mod movers;

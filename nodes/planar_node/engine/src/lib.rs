@@ -15,12 +15,23 @@
 //! engine.snapshot() -> PlanarSnapshot { environment, movers, groups, parts, tracks, axes }
 //! ```
 //!
-//! Module map: [`config`] (§1.12), `state` (§2.1), [`admission`] (§2.3), [`command`] (§3),
-//! [`types`] (§3.8, §4), [`motion`] (§5.1–§5.3), [`geometry`] and `guard` (§5.11 and the
-//! no-overlap invariant), [`errors`] (§6.2), [`snapshot`] (§4.4), [`track`] (§1.6, §2.5,
-//! §3.3, §5.4–§5.9, §5.12; [`bench_loop`] is the benchmark scene).
+//! Layers (issue 16), each a module over explicit data:
+//! * `objects`: the objects in one place (`Objects`: environment, parts, movers, groups;
+//!   §1–§3, §5.1–§5.3, §5.10–§5.11), with admission, free movement and the no-overlap guard;
+//!   it reaches the tracks only through its `TrackHooks` trait;
+//! * [`track`]: the track subsystem (`TrackSystem`: tracks, switches, virtual axes; §1.6,
+//!   §2.5, §3.3, §5.4–§5.9, §5.12) with its own state, driving the movers through the
+//!   `Objects` it is handed;
+//! * `engine`: [`PlanarEngine`], the composition: commands and the cycle's stages;
+//! * `build` (the engine from its configuration, the tracks' init parameters as commands)
+//!   and [`bench`](mod@bench) (the benchmark scene, [`bench_loop`]) use the engine from above.
+//!
+//! Shared below them: [`config`] (§1.12), `state` (§2.1), [`admission`] (§2.3), [`command`]
+//! (§3), [`types`] (§3.8, §4), [`motion`] (§5.1–§5.3), [`geometry`] and `guard` (§5.11 and
+//! the no-overlap invariant), [`errors`] (§6.2), [`snapshot`] (§4.4).
 
 pub mod admission;
+pub mod bench;
 mod build;
 pub mod command;
 pub mod config;
@@ -36,6 +47,7 @@ pub mod track;
 pub mod types;
 
 pub use admission::{admissible, AdmissionContext, CommandKind};
+pub use bench::bench_loop;
 pub use command::{ObjectKind, PlanarCommand};
 pub use config::{
     CollisionRangeMode, EnvironmentConfig, GroupConfig, InitialPose, MoverConfig, PartConfig,
@@ -49,7 +61,6 @@ pub use snapshot::{
     PartSnapshot, PlanarReply, PlanarSnapshot, ReplyValue, TrackSnapshot, VirtualAxisSnapshot,
 };
 pub use state::Timing;
-pub use track::bench::bench_loop;
 pub use track::geometry::{TrackGeometry, TrackPose};
 pub use track::{
     AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,

@@ -2,15 +2,23 @@
 //! on-track motion with gap control, and networks of linked tracks.
 //!
 //! Module map: [`geometry`] (§5.4 segments, transitions, arc length), `gap` (§5.6.3 reach
-//! intervals), `engine_ext` (the engine hooks: track methods and operation modes; its
-//! children `membership` join/leave/AdoptTrackOrientation, `ride` MoveOnTrack, `switches`,
-//! `gear_in`, `cycle` the on-track cycle, `snapshots`), `bench` (the benchmark scene).
+//! intervals), `system` ([`TrackSystem`]: the tracks' own state, with the track commands,
+//! operation modes and the on-track cycle; its children `membership`
+//! join/leave/AdoptTrackOrientation, `ride` MoveOnTrack, `switches`, `gear_in`, `cycle` the
+//! on-track cycle, `snapshots`), `params` and `static_check` (the §1.6 init parameters and
+//! the static collision check).
+//!
+//! The track subsystem owns the tracks, the network's switches and the virtual axes. It
+//! drives the movers only through the objects it is handed (`objects: &mut Objects`: their
+//! records, admission checks, free-movement planning, events and ids); the objects reach
+//! back into it (`tracks: &mut TrackSystem`) only where a mover's motion touches a track:
+//! its on-track cycle, coming to rest, the swept-area check, leaving a track on a state
+//! change, snapshots.
 
-pub mod bench;
-mod engine_ext;
+mod system;
+pub use system::TrackSystem;
 pub(crate) mod gap;
 pub mod geometry;
-pub(crate) mod init;
 pub(crate) mod params;
 mod static_check;
 
@@ -267,7 +275,7 @@ pub(crate) struct Track {
     /// The track's area when Moving (tube of half-width max mover width / 2), built when the
     /// track joins a group.
     pub tube: Vec<crate::geometry::ConvexPolygon>,
-    /// Switch at the end / start (index into the engine's switches) (§5.6.4).
+    /// Switch at the end / start (index into the track system's switches) (§5.6.4).
     pub end_switch: Option<usize>,
     pub start_switch: Option<usize>,
     /// Automatic collision range at the end / start \[mm\] (0 without a switch).

@@ -2,9 +2,10 @@
 //! "Maximal mover width/height", "Check collision against static objects", "Collision range
 //! mode" and "Collision range at start/end".
 
+use super::TrackSystem;
 use crate::config::{CollisionRangeMode, TrackConfig};
-use crate::engine::PlanarEngine;
 use crate::errors::{reject, E_INVALID_STATE};
+use crate::objects::Objects;
 use crate::types::PlanarState;
 use crate::PlanarReply;
 use motion_core::Rejection;
@@ -74,12 +75,13 @@ impl TrackParams {
     }
 }
 
-impl PlanarEngine {
+impl TrackSystem {
     /// TrackSetInitParameters: the §1.6 init parameters of track `k` from the fields of `p`
     /// (validated like the launch config), admissible while the track is Disabled. The switch
     /// ranges are recomputed by the caller (as after a geometry command).
     pub(crate) fn track_set_init_parameters(
         &mut self,
+        objects: &mut Objects,
         k: usize,
         p: &TrackConfig,
     ) -> Result<PlanarReply, Rejection> {
@@ -98,6 +100,6 @@ impl PlanarEngine {
             ..e
         })?;
         self.tracks[k].params = TrackParams::of(p);
-        self.done_now()
+        objects.done_now()
     }
 }

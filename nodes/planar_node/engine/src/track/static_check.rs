@@ -9,8 +9,9 @@
 //! tube width plus one piece, which covers a plain joint without a switch (range 0).
 
 use super::Track;
-use crate::engine::PlanarEngine;
+use super::TrackSystem;
 use crate::geometry::{ConvexPolygon, V2};
+use crate::objects::Objects;
 use crate::types::{PlanarObjectInfo, PlanarObjectType};
 use motion_core::Rejection;
 
@@ -26,11 +27,12 @@ struct Exempt {
     within: f64,
 }
 
-impl PlanarEngine {
+impl TrackSystem {
     /// The §1.6 static check of track `k` against the stator area and the tracks already in
     /// group `g`; Ok when the track's "Check collision against static objects" is FALSE.
     pub(crate) fn track_static_check(
         &mut self,
+        objects: &mut Objects,
         k: usize,
         g: usize,
         tube: &[ConvexPolygon],
@@ -40,20 +42,20 @@ impl PlanarEngine {
         }
         let who = self.track_who(k);
         let cs = self.tracks[k].cs;
-        let shift = self.track_shift_at(k, 0);
+        let shift = self.track_shift_at(objects, k, 0);
         let placed: Vec<ConvexPolygon> = tube.iter().map(|q| q.translated(shift)).collect();
         // The stator area of the track's coordinate system (parts at their current positions);
         // an environment without stators is an unbounded plane.
-        let tiles = self.area_tiles(cs);
+        let tiles = objects.area_tiles(cs);
         if !tiles.is_empty() {
             if let Some(i) = placed.iter().position(|q| !q.inside_tiles(&tiles)) {
                 let s = self.tracks[k].length() * i as f64 / placed.len() as f64;
-                let (oid, name) = (self.env.oid, self.env.name.clone());
+                let (oid, name) = (objects.env.oid, objects.env.name.clone());
                 let info = PlanarObjectInfo {
                     object_type: PlanarObjectType::Environment,
                     id: oid,
                 };
-                let r = self.collision(&who, info, &name);
+                let r = objects.collision(&who, info, &name);
                 return Err(Rejection {
                     message: format!(
                         "{}: the tube leaves the stator area near s = {s:.1} mm",
@@ -68,9 +70,9 @@ impl PlanarEngine {
             if o == k || t.group != Some(g) || t.cs != cs {
                 continue;
             }
-            let (mine, theirs) = self.connections(k, o);
+            let (mine, theirs) = self.connections(objects, k, o);
             let other: Vec<ConvexPolygon> = {
-                let sh = self.track_shift_at(o, 0);
+                let sh = self.track_shift_at(objects, o, 0);
                 t.tube.iter().map(|q| q.translated(sh)).collect()
             };
             let (lk, lo) = (self.tracks[k].length(), t.length());
@@ -85,7 +87,7 @@ impl PlanarEngine {
                             object_type: PlanarObjectType::Track,
                             id: oid,
                         };
-                        return Err(self.collision(&who, info, &name));
+                        return Err(objects.collision(&who, info, &name));
                     }
                 }
             }
@@ -94,10 +96,10 @@ impl PlanarEngine {
     }
 
     /// The exempt stretches of tracks `k` and `o` at the points where their ends meet.
-    fn connections(&self, k: usize, o: usize) -> (Vec<Exempt>, Vec<Exempt>) {
+    fn connections(&self, objects: &Objects, k: usize, o: usize) -> (Vec<Exempt>, Vec<Exempt>) {
         let ends = |t: usize| -> Vec<(bool, V2, f64)> {
             let tr: &Track = &self.tracks[t];
-            let sh = self.track_shift_at(t, 0);
+            let sh = self.track_shift_at(objects, t, 0);
             let margin = 2.0 * tr.params.tube_half_width() + 20.0;
             let mut v = Vec::new();
             if let Some(p) = tr.geo.start_pose() {

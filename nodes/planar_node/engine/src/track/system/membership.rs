@@ -2,20 +2,21 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl TrackSystem {
     // ------------------------------------------------------------------ join / leave (§5.5)
 
     pub(super) fn join_track(
         &mut self,
+        objects: &mut Objects,
         i: usize,
         k: usize,
         constraint: DynamicConstraint,
         options: MoveToPositionOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", self.movers[i].name);
-        self.require_enabled(i, "JoinTrack")?;
-        self.require_mode(i, CommandKind::JoinTrack, "JoinTrack")?;
-        let mode = self.require_track_ready(k, &who)?;
+        let who = format!("mover '{}'", objects.movers[i].name);
+        objects.require_enabled(i, "JoinTrack")?;
+        objects.require_mode(i, CommandKind::JoinTrack, "JoinTrack")?;
+        let mode = self.require_track_ready(objects, k, &who)?;
         if mode == TrackOperationMode::Moving {
             return Err(reject(
                 E_TRACK_MODE_CONFLICT,
@@ -25,7 +26,7 @@ impl PlanarEngine {
                 ),
             ));
         }
-        let m = &self.movers[i];
+        let m = &objects.movers[i];
         let t = &self.tracks[k];
         if t.cs != m.cs {
             return Err(reject(
@@ -33,7 +34,7 @@ impl PlanarEngine {
                 format!("{who}: track '{}' is in another coordinate system", t.name),
             ));
         }
-        let shift = self.track_shift_at(k, 0);
+        let shift = self.track_shift_at(objects, k, 0);
         let s_j = t.geo.closest(m.xy_out().pos - shift);
         let mut pose = t.geo.pose_at(s_j);
         pose.p += shift;
@@ -44,8 +45,8 @@ impl PlanarEngine {
         };
         // Footprint at the join point against movers on or joining the track (§3.2).
         let fp = crate::geometry::ConvexPolygon::rect(pose.p, m.cfg.width, m.cfg.height, c_end);
-        for j in 0..self.movers.len() {
-            let o = &self.movers[j];
+        for j in 0..objects.movers.len() {
+            let o = &objects.movers[j];
             if j == i {
                 continue;
             }
@@ -62,7 +63,7 @@ impl PlanarEngine {
             if let Some(other_fp) = there {
                 if fp.intersects(&other_fp) {
                     let (oid, name) = (o.oid, o.name.clone());
-                    return Err(self.collision(
+                    return Err(objects.collision(
                         &who,
                         PlanarObjectInfo {
                             object_type: PlanarObjectType::Mover,
@@ -73,18 +74,19 @@ impl PlanarEngine {
                 }
             }
         }
-        let refid = if self.coordinate_systems.len() == 1 && self.parts.is_empty() {
+        let refid = if objects.coordinate_systems.len() == 1 && objects.parts.is_empty() {
             0
         } else {
             t.cs
         };
-        let r = self.move_to_position(
+        let r = objects.move_to_position(
+            self,
             i,
             PositionXYC::with_ref(pose.p.x, pose.p.y, c_end, refid),
             constraint,
             options,
         )?;
-        let m = &mut self.movers[i];
+        let m = &mut objects.movers[i];
         m.mode = CommandMode::JoiningTrack;
         m.joining = Some((k, s_j, options.use_orientation));
         Ok(r)
@@ -92,22 +94,23 @@ impl PlanarEngine {
 
     pub(super) fn leave_track(
         &mut self,
+        objects: &mut Objects,
         i: usize,
         target: PositionXYC,
         constraint: DynamicConstraint,
         options: MoveToPositionOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", self.movers[i].name);
+        let who = format!("mover '{}'", objects.movers[i].name);
         target.check_finite(&who, "target_position")?;
-        self.require_enabled(i, "LeaveTrack")?;
-        self.require_mode(i, CommandKind::LeaveTrack, "LeaveTrack")?;
-        let Some(k) = self.movers[i].track.as_ref().map(|t| t.track) else {
+        objects.require_enabled(i, "LeaveTrack")?;
+        objects.require_mode(i, CommandKind::LeaveTrack, "LeaveTrack")?;
+        let Some(k) = objects.movers[i].track.as_ref().map(|t| t.track) else {
             return Err(reject(
                 E_INVALID_COMMAND_MODE,
                 format!("{who}: not on a track"),
             ));
         };
-        if self.track_modes()[k] == TrackOperationMode::Moving {
+        if self.track_modes(objects)[k] == TrackOperationMode::Moving {
             return Err(reject(
                 E_TRACK_MODE_CONFLICT,
                 format!(
@@ -117,21 +120,21 @@ impl PlanarEngine {
             ));
         }
         // The track is left at the start of the motion (§5.5): plan as a free move.
-        let saved = self.movers[i].track.take();
-        let mode = self.movers[i].mode;
-        self.movers[i].mode = CommandMode::FreeMovement;
-        match self.move_to_position(i, target, constraint, options) {
+        let saved = objects.movers[i].track.take();
+        let mode = objects.movers[i].mode;
+        objects.movers[i].mode = CommandMode::FreeMovement;
+        match objects.move_to_position(self, i, target, constraint, options) {
             Ok(r) => {
-                self.movers[i].track = saved;
-                self.detach_from_track(i);
-                let m = &mut self.movers[i];
+                objects.movers[i].track = saved;
+                self.detach_from_track(objects, i);
+                let m = &mut objects.movers[i];
                 m.mode = CommandMode::LeavingTrack;
                 m.leaving = Some(k);
                 m.c_mode = CCoordinateMode::Independent;
                 Ok(r)
             }
             Err(e) => {
-                let m = &mut self.movers[i];
+                let m = &mut objects.movers[i];
                 m.track = saved;
                 m.mode = mode;
                 Err(e)
@@ -140,30 +143,29 @@ impl PlanarEngine {
     }
 
     /// Removes mover `i` from its track (Disable, LeaveTrack).
-    pub(crate) fn detach_from_track(&mut self, i: usize) {
-        let m = &mut self.movers[i];
+    pub(crate) fn detach_from_track(&mut self, objects: &mut Objects, i: usize) {
+        let m = &mut objects.movers[i];
         m.joining = None;
         if let Some(t) = m.track.take() {
             let order = &mut self.tracks[t.track].order;
             order.retain(|&x| x != i);
-            self.renumber(t.track);
+            self.renumber(objects, t.track);
         }
     }
 
-    pub(super) fn renumber(&mut self, k: usize) {
+    pub(super) fn renumber(&mut self, objects: &mut Objects, k: usize) {
         for (slot, &j) in self.tracks[k].order.iter().enumerate() {
-            if let Some(t) = &mut self.movers[j].track {
+            if let Some(t) = &mut objects.movers[j].track {
                 t.slot = slot;
             }
         }
     }
 
     /// Inserts mover `i` (already carrying its TrackMotion on `k`) into the track order.
-    pub(super) fn insert_into_order(&mut self, i: usize, k: usize) {
-        let s_of =
-            |e: &PlanarEngine, j: usize| e.movers[j].track.as_ref().map(|t| t.s()).unwrap_or(0.0);
+    pub(super) fn insert_into_order(&mut self, objects: &mut Objects, i: usize, k: usize) {
+        let s_of = |e: &Objects, j: usize| e.movers[j].track.as_ref().map(|t| t.s()).unwrap_or(0.0);
         let t = &self.tracks[k];
-        let s = s_of(self, i);
+        let s = s_of(objects, i);
         let n = t.order.len();
         let pos = if t.geo.closed() && n > 0 {
             let l = t.length();
@@ -171,30 +173,30 @@ impl PlanarEngine {
             // Cyclic order: after the mover with the largest key ≤ s (wrapping).
             let mut best: Option<(usize, f64)> = None;
             for (idx, &j) in t.order.iter().enumerate() {
-                let d = (key(s) - key(s_of(self, j))).rem_euclid(l);
+                let d = (key(s) - key(s_of(objects, j))).rem_euclid(l);
                 if best.is_none_or(|(_, bd)| d < bd) {
                     best = Some((idx, d));
                 }
             }
             best.map(|(idx, _)| idx + 1).unwrap_or(0)
         } else {
-            t.order.partition_point(|&j| s_of(self, j) <= s)
+            t.order.partition_point(|&j| s_of(objects, j) <= s)
         };
         self.tracks[k].order.insert(pos, i);
-        self.renumber(k);
+        self.renumber(objects, k);
     }
 
     /// Bookkeeping of the track modes when axes come to rest (called by `finish_idle`).
-    pub(crate) fn track_finish_idle(&mut self, i: usize) {
-        let m = &self.movers[i];
+    pub(crate) fn track_finish_idle(&mut self, objects: &mut Objects, i: usize) {
+        let m = &objects.movers[i];
         let xy_rest = m.path.is_none() && !m.xy.moving();
         if m.mode == CommandMode::JoiningTrack && xy_rest && m.xy_cmd.is_none() {
             let Some((k, s_j, dependent)) = m.joining else {
-                self.movers[i].mode = CommandMode::FreeMovement;
+                objects.movers[i].mode = CommandMode::FreeMovement;
                 return;
             };
-            let p = self.tracks[k].geo.pose_at(s_j).p + self.track_shift_at(k, 0);
-            let m = &mut self.movers[i];
+            let p = self.tracks[k].geo.pose_at(s_j).p + self.track_shift_at(objects, k, 0);
+            let m = &mut objects.movers[i];
             m.joining = None;
             if (m.xy.pos - p).norm() <= 1e-6 {
                 let mut tm = TrackMotion::new(k, s_j, m.cfg.default_dynamics);
@@ -206,7 +208,7 @@ impl PlanarEngine {
                 }
                 m.track = Some(tm);
                 m.mode = CommandMode::OnTrack;
-                self.insert_into_order(i, k);
+                self.insert_into_order(objects, i, k);
             } else {
                 // The approach was stopped (guard): no join.
                 m.mode = CommandMode::FreeMovement;
@@ -214,7 +216,7 @@ impl PlanarEngine {
             return;
         }
         if m.mode == CommandMode::LeavingTrack && xy_rest && m.xy_cmd.is_none() {
-            let m = &mut self.movers[i];
+            let m = &mut objects.movers[i];
             m.leaving = None;
             m.mode = if in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max) {
                 CommandMode::FreeMovement
@@ -223,17 +225,17 @@ impl PlanarEngine {
             };
             return;
         }
-        let Some(tm) = &self.movers[i].track else {
+        let Some(tm) = &objects.movers[i].track else {
             return;
         };
         let k = tm.track;
         let s = tm.s();
         let adopt = tm.adopt;
-        let m = &self.movers[i];
+        let m = &objects.movers[i];
         let c_rest = !m.c.moving() && m.c_cmd.is_none();
         if adopt && c_rest {
             let h = self.tracks[k].geo.pose_at(s).heading_deg();
-            let m = &mut self.movers[i];
+            let m = &mut objects.movers[i];
             let c = m.c.pos;
             if (c - nearest_equivalent(h, c)).abs() <= 1e-6 {
                 m.c_mode = CCoordinateMode::Dependent;
@@ -242,7 +244,7 @@ impl PlanarEngine {
                 t.adopt = false;
             }
         }
-        let m = &mut self.movers[i];
+        let m = &mut objects.movers[i];
         if c_rest
             && m.mode == CommandMode::CRotationOnTrack
             && in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max)
@@ -253,24 +255,26 @@ impl PlanarEngine {
 
     pub(super) fn adopt_track_orientation(
         &mut self,
+        objects: &mut Objects,
         i: usize,
         constraint: DynamicConstraint,
         options: crate::track::AdoptTrackOrientationOptions,
     ) -> Result<PlanarReply, Rejection> {
-        self.require_enabled(i, "AdoptTrackOrientation")?;
-        self.require_mode(
+        objects.require_enabled(i, "AdoptTrackOrientation")?;
+        objects.require_mode(
             i,
             CommandKind::AdoptTrackOrientation,
             "AdoptTrackOrientation",
         )?;
-        let tm = self.movers[i].track.as_ref().ok_or_else(|| {
+        let tm = objects.movers[i].track.as_ref().ok_or_else(|| {
             reject(
                 E_INVALID_COMMAND_MODE,
-                format!("mover '{}': not on a track", self.movers[i].name),
+                format!("mover '{}': not on a track", objects.movers[i].name),
             )
         })?;
         let h = self.tracks[tm.track].geo.pose_at(tm.s()).heading_deg();
-        let r = self.move_c(
+        let r = objects.move_c(
+            self,
             i,
             h,
             constraint,
@@ -279,7 +283,7 @@ impl PlanarEngine {
                 direction: options.direction,
             },
         )?;
-        if let Some(t) = &mut self.movers[i].track {
+        if let Some(t) = &mut objects.movers[i].track {
             t.adopt = true;
         }
         Ok(r)

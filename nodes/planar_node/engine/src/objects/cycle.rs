@@ -3,10 +3,10 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl Objects {
     // ------------------------------------------------------------------ the cycle
 
-    pub(super) fn step_parts(&mut self, dt: f64) {
+    pub(crate) fn step_parts(&mut self, tracks: &mut dyn TrackHooks, dt: f64) {
         let t = self.timing;
         for p in 0..self.parts.len() {
             let mut done = None;
@@ -30,9 +30,7 @@ impl PlanarEngine {
                 // Tracks are fixed to their part and move with it (§1.6), also into the
                 // coordinate system of the new position (§1.3, W20 elevator).
                 let part_oid = self.parts[p].oid;
-                for t in self.tracks.iter_mut().filter(|t| t.part_oid == part_oid) {
-                    t.cs = cs_new;
-                }
+                tracks.part_moved(part_oid, cs_new);
                 ev(&mut self.pending, id, CommandState::Done);
             }
             let part = &mut self.parts[p];
@@ -47,7 +45,7 @@ impl PlanarEngine {
         self.reconcile_parts();
     }
 
-    pub(super) fn step_states(&mut self, dt: f64) {
+    pub(crate) fn step_states(&mut self, tracks: &mut dyn TrackHooks, dt: f64) {
         for i in 0..self.movers.len() {
             let at_rest = self.movers[i].at_rest()
                 || self.movers[i].sm.reaction == ErrorReaction::Abort
@@ -90,7 +88,7 @@ impl PlanarEngine {
                         m.xy = Kin2::at_rest(m.xy.pos);
                         m.c_mode = CCoordinateMode::Independent;
                         // §2.1: a disabled mover is detached from its track.
-                        self.detach_from_track(i);
+                        tracks.detach(self, i);
                     }
                     _ => {}
                 }
@@ -139,7 +137,7 @@ impl PlanarEngine {
         bx.minkowski(&fp)
     }
 
-    pub(super) fn step_motion(&mut self, dt: f64) {
+    pub(crate) fn step_motion(&mut self, tracks: &mut dyn TrackHooks, dt: f64) {
         let mut grid = std::mem::take(&mut self.grid);
         let mut cand = std::mem::take(&mut self.scratch);
         grid.clear();
@@ -152,7 +150,7 @@ impl PlanarEngine {
             }
         }
         for i in 0..self.movers.len() {
-            self.step_mover(i, dt, &mut grid, &mut cand);
+            self.step_mover(tracks, i, dt, &mut grid, &mut cand);
         }
         self.grid = grid;
         self.scratch = cand;
@@ -173,7 +171,14 @@ impl PlanarEngine {
         None
     }
 
-    pub(super) fn step_mover(&mut self, i: usize, dt: f64, grid: &mut Grid, cand: &mut Vec<u32>) {
+    pub(super) fn step_mover(
+        &mut self,
+        tracks: &mut dyn TrackHooks,
+        i: usize,
+        dt: f64,
+        grid: &mut Grid,
+        cand: &mut Vec<u32>,
+    ) {
         // Aux axes: independent of the footprint.
         {
             let ev_ = &mut self.pending;
@@ -248,7 +253,7 @@ impl PlanarEngine {
             esg_abs = None;
         }
         if self.movers[i].track.is_some() {
-            self.step_track_mover(i, dt, grid, cand);
+            tracks.step_mover(self, i, dt, grid, cand);
             return;
         }
         let m = &self.movers[i];
@@ -259,7 +264,7 @@ impl PlanarEngine {
         let moving =
             m.path.is_some() || m.xy.moving() || m.c.moving() || esg_abs.is_some() || relative;
         if !moving {
-            self.finish_idle(i);
+            self.finish_idle(tracks, i);
             return;
         }
         // Proposal for the next cycle.
@@ -333,7 +338,7 @@ impl PlanarEngine {
             });
             if let Some(j) = blocker {
                 self.guard_fire(i, j, esg_abs.is_some() || relative);
-                self.advance_committed(i, dt);
+                self.advance_committed(tracks, i, dt);
                 return;
             }
             grid.insert(m.cs, i as u32, &env);
@@ -387,7 +392,7 @@ impl PlanarEngine {
         if !controls_c && m.c.advance(dt) {
             end(ev_, &mut m.c_cmd, CommandState::Done);
         }
-        self.finish_idle(i);
+        self.finish_idle(tracks, i);
     }
 
     /// Stops mover `i` at the last pose on its way to the next set point (`xy_next`,
@@ -509,7 +514,7 @@ impl PlanarEngine {
     }
 
     /// Follows the already committed stop (inside the current envelope), no checks needed.
-    pub(super) fn advance_committed(&mut self, i: usize, dt: f64) {
+    pub(super) fn advance_committed(&mut self, tracks: &mut dyn TrackHooks, i: usize, dt: f64) {
         let m = &mut self.movers[i];
         if let Some(p) = &mut m.path {
             let (st, done) = p.peek(dt);
@@ -523,12 +528,12 @@ impl PlanarEngine {
             m.xy = Kin2::at_rest(m.xy.pos);
         }
         m.c.advance(dt);
-        self.finish_idle(i);
+        self.finish_idle(tracks, i);
     }
 
     /// Bookkeeping once axes come to rest: Halt/Stop done, CRotation exit, reservation release.
-    pub(crate) fn finish_idle(&mut self, i: usize) {
-        self.track_finish_idle(i);
+    pub(crate) fn finish_idle(&mut self, tracks: &mut dyn TrackHooks, i: usize) {
+        tracks.finish_idle(self, i);
         let ev_ = &mut self.pending;
         let m = &mut self.movers[i];
         let xy_rest =
@@ -578,5 +583,19 @@ impl PlanarEngine {
                 m.envelope = m.footprint();
             }
         }
+    }
+
+    /// True if every mover is on one and the same track (then the guard is not needed).
+    pub(crate) fn all_on_one_track(&self) -> bool {
+        let mut k = None;
+        for m in &self.movers {
+            match (&m.track, k) {
+                (None, _) => return false,
+                (Some(t), None) => k = Some(t.track),
+                (Some(t), Some(x)) if t.track != x => return false,
+                _ => {}
+            }
+        }
+        true
     }
 }

@@ -1,22 +1,24 @@
-//! The engine's track hooks: track methods (§3.3), JoinTrack / LeaveTrack / MoveOnTrack /
+//! [`TrackSystem`]: the track subsystem's own state (tracks, switches, virtual axes) and its
+//! behaviour: track methods (§3.3), JoinTrack / LeaveTrack / MoveOnTrack /
 //! AdoptTrackOrientation (§3.2), operation modes (§2.5), and the on-track cycle with gap
-//! control (§5.6.3) and network transitions (§5.6.5). Each concept has its module below;
-//! all are `impl PlanarEngine` blocks over the engine's track state.
+//! control (§5.6.3) and network transitions (§5.6.5). Each concept has its module below.
+//! The movers it drives are handed in as `objects: &mut Objects` (module doc of `track`).
 
 use super::gap::{reach, step_ok, AIM_INSIDE, GAP_EPS};
 use super::geometry::{GeometryError, TrackPose};
 use super::{GearIn, Master, SyncDirections, Track, TrackMotion, TrackOperationMode, TrackTarget};
 use crate::admission::CommandKind;
 use crate::command::PlanarCommand;
-use crate::engine::{end, ev, started, traj_err, PlanarEngine};
 use crate::errors::*;
 use crate::geometry::V2;
 use crate::guard::Grid;
 use crate::motion::{in_c_window, modulo_target, Kin2};
+use crate::objects::{end, ev, started, traj_err, Objects, TrackHooks};
 use crate::snapshot::{OnTrackSnapshot, PlanarReply, ReplyValue, TrackSnapshot};
 use crate::types::*;
 use motion_core::trajectory::{Limits, Profile1, State1};
 use motion_core::{CmdId, CommandState, ErrorId, Rejection};
+use std::collections::HashMap;
 
 mod cycle;
 mod gear_in;
@@ -24,6 +26,44 @@ mod membership;
 mod ride;
 mod snapshots;
 mod switches;
+
+/// The track subsystem's state: tracks in configuration order (§1.6), the switches of the
+/// network (§5.6.4, rebuilt after geometry and link changes) and the virtual master axes
+/// (§5.8.4).
+#[derive(Default)]
+pub struct TrackSystem {
+    pub(crate) tracks: Vec<Track>,
+    pub(crate) track_idx: HashMap<String, usize>,
+    pub(crate) switches: Vec<super::Switch>,
+    pub(crate) axes: Vec<super::VirtualAxis>,
+    pub(crate) axis_idx: HashMap<String, usize>,
+}
+
+impl TrackSystem {
+    /// The configured tracks (without their init parameters, which `build::tracks` applies as
+    /// commands) and virtual axes; tracks on parts start where their part is.
+    pub(crate) fn new(cfg: &crate::config::PlanarConfig, objects: &Objects) -> Self {
+        let part_frames: Vec<super::PartFrame> = (objects.parts.iter())
+            .map(|p| {
+                let (cs, origin) = p.origin();
+                super::PartFrame {
+                    oid: p.oid,
+                    cs,
+                    origin,
+                }
+            })
+            .collect();
+        let (tracks, track_idx) = super::build_tracks(cfg, &part_frames);
+        let (axes, axis_idx) = super::build_axes(cfg);
+        TrackSystem {
+            tracks,
+            track_idx,
+            switches: Vec::new(),
+            axes,
+            axis_idx,
+        }
+    }
+}
 
 /// A gap-limited follower re-plans at most every this many cycles while its leader moves.
 const REPLAN_CYCLES: u32 = 8;
@@ -71,12 +111,13 @@ fn limits_of(d: &Dynamics) -> Limits {
     d.limits()
 }
 
-impl PlanarEngine {
+impl TrackSystem {
     /// GetPositionAt without a command: the pose at `arc_length` in the track's current part
     /// position. Pure, so the shell can sample whole tracks through the runtime's read-only
     /// query path (drawing markers must not flood `~/command_status`).
     pub fn track_position_at(
         &self,
+        objects: &Objects,
         track: &str,
         arc_length: f64,
     ) -> Result<PositionXYC, Rejection> {
@@ -97,8 +138,8 @@ impl PlanarEngine {
             ));
         }
         let mut p = t.geo.pose_at(arc_length);
-        p.p += self.track_shift_at(k, 0);
-        let refid = if self.coordinate_systems.len() == 1 && t.cs == 0 {
+        p.p += self.track_shift_at(objects, k, 0);
+        let refid = if objects.coordinate_systems.len() == 1 && t.cs == 0 {
             0
         } else {
             t.cs
@@ -116,10 +157,10 @@ impl PlanarEngine {
     // ------------------------------------------------------------------ operation modes (§2.5)
 
     /// Operation modes of all tracks, derived from the movers (O(movers + tracks)).
-    pub(crate) fn track_modes(&self) -> Vec<TrackOperationMode> {
+    pub(crate) fn track_modes(&self, objects: &Objects) -> Vec<TrackOperationMode> {
         let mut moving = vec![false; self.tracks.len()];
         let mut config = vec![false; self.tracks.len()];
-        for m in &self.movers {
+        for m in &objects.movers {
             if let Some(t) = &m.track {
                 if t.active() {
                     moving[t.track] = true;
@@ -152,7 +193,12 @@ impl PlanarEngine {
             .collect()
     }
 
-    fn require_track_ready(&self, k: usize, who: &str) -> Result<TrackOperationMode, Rejection> {
+    fn require_track_ready(
+        &self,
+        objects: &Objects,
+        k: usize,
+        who: &str,
+    ) -> Result<TrackOperationMode, Rejection> {
         let t = &self.tracks[k];
         if t.sm.state != PlanarState::Enabled {
             return Err(reject(
@@ -163,7 +209,7 @@ impl PlanarEngine {
                 ),
             ));
         }
-        Ok(self.track_modes()[k])
+        Ok(self.track_modes(objects)[k])
     }
 
     // ------------------------------------------------------------------ track methods (§3.3)
@@ -207,10 +253,16 @@ impl PlanarEngine {
     }
 
     /// A point of a geometry call in the track's coordinate system.
-    fn track_point(&self, k: usize, field: &str, p: &PositionXYC) -> Result<V2, Rejection> {
+    fn track_point(
+        &self,
+        objects: &Objects,
+        k: usize,
+        field: &str,
+        p: &PositionXYC,
+    ) -> Result<V2, Rejection> {
         let who = self.track_who(k);
         p.check_finite(&who, field)?;
-        let (cs, v) = self.resolve(&who, p.x, p.y, p.reference_id)?;
+        let (cs, v) = objects.resolve(&who, p.x, p.y, p.reference_id)?;
         if cs != self.tracks[k].cs {
             return Err(reject(
                 E_GEOMETRY_INVALID,
@@ -221,7 +273,7 @@ impl PlanarEngine {
             ));
         }
         // Stored in the coordinates of the part position the geometry was defined in.
-        Ok(v - self.track_shift_at(k, 0))
+        Ok(v - self.track_shift_at(objects, k, 0))
     }
 
     fn link(&mut self, from: usize, to: usize) {
@@ -233,16 +285,22 @@ impl PlanarEngine {
         }
     }
 
-    fn check_position_index(&self, k: usize, index: u32, which: &str) -> Result<(), Rejection> {
+    fn check_position_index(
+        &self,
+        objects: &Objects,
+        k: usize,
+        index: u32,
+        which: &str,
+    ) -> Result<(), Rejection> {
         if index == 0 {
             return Ok(());
         }
         let t = &self.tracks[k];
-        let ok = self
+        let ok = objects
             .parts
             .iter()
             .find(|p| p.oid == t.part_oid)
-            .or(self.parts.first().filter(|_| t.part_oid == 0))
+            .or(objects.parts.first().filter(|_| t.part_oid == 0))
             .is_some_and(|p| p.positions.contains_key(&index));
         if !ok {
             return Err(reject(
@@ -258,6 +316,7 @@ impl PlanarEngine {
 
     fn start_from_track(
         &mut self,
+        objects: &mut Objects,
         k: usize,
         o: usize,
         adv: super::TrackLinkAdvancedOptions,
@@ -270,8 +329,8 @@ impl PlanarEngine {
                 format!("{who}: StartFromTrack with itself"),
             ));
         }
-        let delta = self.track_shift_at(o, adv.other_track_part_position_index)
-            - self.track_shift_at(k, adv.this_track_part_position_index);
+        let delta = self.track_shift_at(objects, o, adv.other_track_part_position_index)
+            - self.track_shift_at(objects, k, adv.this_track_part_position_index);
         let other = &self.tracks[o];
         let Some(mut end) = other.geo.end_pose().filter(|_| !other.geo.closed()) else {
             return Err(reject(
@@ -308,24 +367,25 @@ impl PlanarEngine {
         self.link(o, k);
         if adv.link_only_in_specified_part_positions {
             let (fi, ti) = (
-                self.track_part_index(o, adv.other_track_part_position_index),
-                self.track_part_index(k, adv.this_track_part_position_index),
+                self.track_part_index(objects, o, adv.other_track_part_position_index),
+                self.track_part_index(objects, k, adv.this_track_part_position_index),
             );
             self.tracks[o].link_only.push((k, fi, ti));
         }
-        self.done_now()
+        objects.done_now()
     }
 
     fn end_at_track(
         &mut self,
+        objects: &mut Objects,
         k: usize,
         o: usize,
         adv: super::TrackLinkAdvancedOptions,
     ) -> Result<PlanarReply, Rejection> {
         let who = self.track_who(k);
         self.require_disabled_track(k)?;
-        let delta = self.track_shift_at(o, adv.other_track_part_position_index)
-            - self.track_shift_at(k, adv.this_track_part_position_index);
+        let delta = self.track_shift_at(objects, o, adv.other_track_part_position_index)
+            - self.track_shift_at(objects, k, adv.this_track_part_position_index);
         let other = &self.tracks[o];
         let Some(mut start) = other.geo.start_pose().filter(|_| !other.geo.closed()) else {
             return Err(reject(
@@ -365,15 +425,15 @@ impl PlanarEngine {
         self.link(k, o);
         if adv.link_only_in_specified_part_positions {
             let (fi, ti) = (
-                self.track_part_index(k, adv.this_track_part_position_index),
-                self.track_part_index(o, adv.other_track_part_position_index),
+                self.track_part_index(objects, k, adv.this_track_part_position_index),
+                self.track_part_index(objects, o, adv.other_track_part_position_index),
             );
             self.tracks[k].link_only.push((o, fi, ti));
         }
-        self.done_now()
+        objects.done_now()
     }
 
-    fn track_clear(&mut self, k: usize) -> Result<PlanarReply, Rejection> {
+    fn track_clear(&mut self, objects: &mut Objects, k: usize) -> Result<PlanarReply, Rejection> {
         self.require_disabled_track(k)?;
         if !self.tracks[k].order.is_empty() {
             return Err(reject(
@@ -393,10 +453,10 @@ impl PlanarEngine {
         t.locked_by.clear();
         t.start_linked = false;
         t.end_linked = false;
-        self.done_now()
+        objects.done_now()
     }
 
-    fn track_enable(&mut self, k: usize) -> Result<PlanarReply, Rejection> {
+    fn track_enable(&mut self, objects: &mut Objects, k: usize) -> Result<PlanarReply, Rejection> {
         let who = self.track_who(k);
         let t = &self.tracks[k];
         if t.sm.state == PlanarState::Disabled {
@@ -406,21 +466,21 @@ impl PlanarEngine {
                     format!("{who}: Enable without geometry"),
                 ));
             }
-            if self.parts.len() > 1 && t.part_oid == 0 {
+            if objects.parts.len() > 1 && t.part_oid == 0 {
                 return Err(reject(
                     E_GEOMETRY_INVALID,
                     format!("{who}: PartOID missing with more than one part"),
                 ));
             }
-            self.track_lies_on_part(k)?;
+            self.track_lies_on_part(objects, k)?;
         }
-        let id = self.new_id();
-        let timing = self.timing;
+        let id = objects.new_id();
+        let timing = objects.timing;
         let r = self.tracks[k]
             .sm
-            .enable(id, &timing, &who, &mut self.pending)?;
+            .enable(id, &timing, &who, &mut objects.pending)?;
         ev(
-            &mut self.pending,
+            &mut objects.pending,
             id,
             if r == crate::state::Accepted::AlreadyThere {
                 CommandState::Done
@@ -432,13 +492,13 @@ impl PlanarEngine {
     }
 
     /// The track's geometry lies completely on its part (§1.6, §5.4); no part: always.
-    pub(crate) fn track_lies_on_part(&self, k: usize) -> Result<(), Rejection> {
+    pub(crate) fn track_lies_on_part(&self, objects: &Objects, k: usize) -> Result<(), Rejection> {
         let who = self.track_who(k);
         let t = &self.tracks[k];
         let part = if t.part_oid != 0 {
-            self.parts.iter().find(|p| p.oid == t.part_oid)
+            objects.parts.iter().find(|p| p.oid == t.part_oid)
         } else {
-            self.parts.first()
+            objects.parts.first()
         };
         if let Some(p) = part {
             let (pcs, o) = p.origin();
@@ -452,7 +512,7 @@ impl PlanarEngine {
                         && l.y <= tl.y + side + 1e-6
                 })
             };
-            let shift = self.track_shift_at(k, 0);
+            let shift = self.track_shift_at(objects, k, 0);
             if pcs != t.cs || !t.geo.samples(5.0).into_iter().all(|q| on(q + shift)) {
                 return Err(reject(
                     E_GEOMETRY_INVALID,
@@ -466,9 +526,9 @@ impl PlanarEngine {
         Ok(())
     }
 
-    fn track_disable(&mut self, k: usize) -> Result<PlanarReply, Rejection> {
+    fn track_disable(&mut self, objects: &mut Objects, k: usize) -> Result<PlanarReply, Rejection> {
         if !self.tracks[k].order.is_empty()
-            || self
+            || objects
                 .movers
                 .iter()
                 .any(|m| m.joining.is_some_and(|j| j.0 == k) || m.leaving == Some(k))
@@ -478,11 +538,11 @@ impl PlanarEngine {
                 format!("{}: Disable with movers on the track", self.track_who(k)),
             ));
         }
-        let id = self.new_id();
-        let timing = self.timing;
-        let r = self.tracks[k].sm.disable(id, &timing, &mut self.pending);
+        let id = objects.new_id();
+        let timing = objects.timing;
+        let r = self.tracks[k].sm.disable(id, &timing, &mut objects.pending);
         ev(
-            &mut self.pending,
+            &mut objects.pending,
             id,
             if r == crate::state::Accepted::AlreadyThere {
                 CommandState::Done
@@ -494,16 +554,20 @@ impl PlanarEngine {
     }
 
     /// Track state machines (Enabling → Enabled etc., §2.1).
-    pub(crate) fn step_tracks(&mut self, dt: f64) {
+    pub(crate) fn step_tracks(&mut self, objects: &mut Objects, dt: f64) {
         for t in &mut self.tracks {
             if t.sm.advance(dt, true).is_some() {
-                t.sm.complete(&mut self.pending);
+                t.sm.complete(&mut objects.pending);
             }
         }
     }
 
     /// Dispatch of the track commands and the on-track mover methods.
-    pub(crate) fn track_command(&mut self, cmd: PlanarCommand) -> Result<PlanarReply, Rejection> {
+    pub(crate) fn track_command(
+        &mut self,
+        objects: &mut Objects,
+        cmd: PlanarCommand,
+    ) -> Result<PlanarReply, Rejection> {
         use PlanarCommand as C;
         let geometry = matches!(
             cmd,
@@ -529,17 +593,22 @@ impl PlanarEngine {
         };
         if let Some(k) = target_track {
             if self.tracks[k].geo.is_empty() {
-                self.tracks[k].geo_origin = self.track_shift_at(k, 0) + self.tracks[k].geo_origin;
+                self.tracks[k].geo_origin =
+                    self.track_shift_at(objects, k, 0) + self.tracks[k].geo_origin;
             }
         }
-        let r = self.track_command_inner(cmd);
+        let r = self.track_command_inner(objects, cmd);
         if geometry && r.is_ok() {
             self.rebuild_switches();
         }
         r
     }
 
-    fn track_command_inner(&mut self, cmd: PlanarCommand) -> Result<PlanarReply, Rejection> {
+    fn track_command_inner(
+        &mut self,
+        objects: &mut Objects,
+        cmd: PlanarCommand,
+    ) -> Result<PlanarReply, Rejection> {
         use PlanarCommand as C;
         match cmd {
             C::JoinTrack {
@@ -548,9 +617,9 @@ impl PlanarEngine {
                 constraint,
                 options,
             } => {
-                let i = self.mover(&mover)?;
+                let i = objects.mover(&mover)?;
                 let k = self.track(&track)?;
-                self.join_track(i, k, constraint, options)
+                self.join_track(objects, i, k, constraint, options)
             }
             C::LeaveTrack {
                 mover,
@@ -558,8 +627,8 @@ impl PlanarEngine {
                 constraint,
                 options,
             } => {
-                let i = self.mover(&mover)?;
-                self.leave_track(i, target_position, constraint, options)
+                let i = objects.mover(&mover)?;
+                self.leave_track(objects, i, target_position, constraint, options)
             }
             C::MoveOnTrack {
                 mover,
@@ -568,21 +637,21 @@ impl PlanarEngine {
                 constraint,
                 options,
             } => {
-                let i = self.mover(&mover)?;
+                let i = objects.mover(&mover)?;
                 let k = if track.is_empty() {
                     None
                 } else {
                     Some(self.track(&track)?)
                 };
-                self.move_on_track(i, k, target_position, constraint, options)
+                self.move_on_track(objects, i, k, target_position, constraint, options)
             }
             C::AdoptTrackOrientation {
                 mover,
                 constraint,
                 options,
             } => {
-                let i = self.mover(&mover)?;
-                self.adopt_track_orientation(i, constraint, options)
+                let i = objects.mover(&mover)?;
+                self.adopt_track_orientation(objects, i, constraint, options)
             }
             C::GearInPosOnTrackWithMasterMover {
                 mover,
@@ -595,8 +664,8 @@ impl PlanarEngine {
                 constraint,
                 options,
             } => {
-                let i = self.mover(&mover)?;
-                let j = self.mover(&master_mover)?;
+                let i = objects.mover(&mover)?;
+                let j = objects.mover(&master_mover)?;
                 let trail = track_trail
                     .iter()
                     .map(|t| self.track(t))
@@ -604,6 +673,7 @@ impl PlanarEngine {
                 let mk = self.track(&master_sync_position_track)?;
                 let sk = self.track(&slave_sync_position_track)?;
                 self.gear_in(
+                    objects,
                     i,
                     Master::Mover(j),
                     trail,
@@ -623,7 +693,7 @@ impl PlanarEngine {
                 constraint,
                 options,
             } => {
-                let i = self.mover(&mover)?;
+                let i = objects.mover(&mover)?;
                 let Some(&a) = self.axis_idx.get(&master_axis) else {
                     return Err(reject(
                         E_INVALID_PARAMETER,
@@ -645,6 +715,7 @@ impl PlanarEngine {
                     ..Default::default()
                 };
                 self.gear_in(
+                    objects,
                     i,
                     Master::Axis(a),
                     trail,
@@ -659,11 +730,11 @@ impl PlanarEngine {
                 if !enable && self.axes[a].ax.moving() {
                     // Power off stops at once (set point frozen).
                     self.axes[a].ax.freeze();
-                    let ev_ = &mut self.pending;
+                    let ev_ = &mut objects.pending;
                     end(ev_, &mut self.axes[a].cmd, CommandState::Aborted);
                 }
                 self.axes[a].powered = enable;
-                self.done_now()
+                objects.done_now()
             }
             C::AxisMoveAbsolute {
                 axis,
@@ -682,7 +753,7 @@ impl PlanarEngine {
                     deceleration: finite(&who, "deceleration", deceleration)?,
                     jerk: finite(&who, "jerk", jerk)?,
                 };
-                self.axis_move(a, &who, |ax| ax.plan_to(position, &d))
+                self.axis_move(objects, a, &who, |ax| ax.plan_to(position, &d))
             }
             C::AxisHalt {
                 axis,
@@ -697,11 +768,11 @@ impl PlanarEngine {
                     deceleration: finite(&who, "deceleration", deceleration)?,
                     jerk: finite(&who, "jerk", jerk)?,
                 };
-                self.axis_move(a, &who, |ax| ax.plan_stop(&d))
+                self.axis_move(objects, a, &who, |ax| ax.plan_stop(&d))
             }
             C::TrackAppendPosition { track, position } => {
                 let k = self.track(&track)?;
-                let p = self.track_point(k, "position", &position)?;
+                let p = self.track_point(objects, k, "position", &position)?;
                 self.require_disabled_track(k)?;
                 self.require_unlocked(k)?;
                 let who = self.track_who(k);
@@ -709,19 +780,19 @@ impl PlanarEngine {
                     .geo
                     .append_position(p, position.c.to_radians())
                     .map_err(|e| geo_err(&who, e))?;
-                self.done_now()
+                objects.done_now()
             }
             C::TrackAppendLine { track, start, end } => {
                 let k = self.track(&track)?;
-                let a = self.track_point(k, "start", &start)?;
-                let b = self.track_point(k, "end", &end)?;
+                let a = self.track_point(objects, k, "start", &start)?;
+                let b = self.track_point(objects, k, "end", &end)?;
                 self.require_disabled_track(k)?;
                 self.require_unlocked(k)?;
                 let who = self.track_who(k);
                 let mut g = self.tracks[k].geo.clone();
                 g.append_line(a, b).map_err(|e| geo_err(&who, e))?;
                 self.tracks[k].geo = g;
-                self.done_now()
+                objects.done_now()
             }
             C::TrackAppendCircle {
                 track,
@@ -731,9 +802,9 @@ impl PlanarEngine {
                 clockwise,
             } => {
                 let k = self.track(&track)?;
-                let a = self.track_point(k, "start", &start)?;
-                let b = self.track_point(k, "end", &end)?;
-                let c = self.track_point(k, "center", &center)?;
+                let a = self.track_point(objects, k, "start", &start)?;
+                let b = self.track_point(objects, k, "end", &end)?;
+                let c = self.track_point(objects, k, "center", &center)?;
                 self.require_disabled_track(k)?;
                 self.require_unlocked(k)?;
                 let who = self.track_who(k);
@@ -741,7 +812,7 @@ impl PlanarEngine {
                 g.append_circle(a, b, c, clockwise)
                     .map_err(|e| geo_err(&who, e))?;
                 self.tracks[k].geo = g;
-                self.done_now()
+                objects.done_now()
             }
             C::TrackCloseLoop { track } => {
                 let k = self.track(&track)?;
@@ -763,17 +834,17 @@ impl PlanarEngine {
                 let mut g = t.geo.clone();
                 g.close_loop().map_err(|e| geo_err(&who, e))?;
                 self.tracks[k].geo = g;
-                self.done_now()
+                objects.done_now()
             }
             C::TrackStartFromTrack { track, other } => {
                 let k = self.track(&track)?;
                 let o = self.track(&other)?;
-                self.start_from_track(k, o, Default::default())
+                self.start_from_track(objects, k, o, Default::default())
             }
             C::TrackEndAtTrack { track, other } => {
                 let k = self.track(&track)?;
                 let o = self.track(&other)?;
-                self.end_at_track(k, o, Default::default())
+                self.end_at_track(objects, k, o, Default::default())
             }
             C::TrackStartFromTrackAdvanced {
                 track,
@@ -782,9 +853,19 @@ impl PlanarEngine {
             } => {
                 let k = self.track(&track)?;
                 let o = self.track(&other)?;
-                self.check_position_index(k, options.this_track_part_position_index, "this")?;
-                self.check_position_index(o, options.other_track_part_position_index, "other")?;
-                self.start_from_track(k, o, options)
+                self.check_position_index(
+                    objects,
+                    k,
+                    options.this_track_part_position_index,
+                    "this",
+                )?;
+                self.check_position_index(
+                    objects,
+                    o,
+                    options.other_track_part_position_index,
+                    "other",
+                )?;
+                self.start_from_track(objects, k, o, options)
             }
             C::TrackEndAtTrackAdvanced {
                 track,
@@ -793,30 +874,40 @@ impl PlanarEngine {
             } => {
                 let k = self.track(&track)?;
                 let o = self.track(&other)?;
-                self.check_position_index(k, options.this_track_part_position_index, "this")?;
-                self.check_position_index(o, options.other_track_part_position_index, "other")?;
-                self.end_at_track(k, o, options)
+                self.check_position_index(
+                    objects,
+                    k,
+                    options.this_track_part_position_index,
+                    "this",
+                )?;
+                self.check_position_index(
+                    objects,
+                    o,
+                    options.other_track_part_position_index,
+                    "other",
+                )?;
+                self.end_at_track(objects, k, o, options)
             }
             C::TrackClear { track } => {
                 let k = self.track(&track)?;
-                self.track_clear(k)
+                self.track_clear(objects, k)
             }
             C::TrackEnable { track } => {
                 let k = self.track(&track)?;
-                self.track_enable(k)
+                self.track_enable(objects, k)
             }
             C::TrackDisable { track } => {
                 let k = self.track(&track)?;
-                self.track_disable(k)
+                self.track_disable(objects, k)
             }
             C::TrackReset { track } => {
                 let k = self.track(&track)?;
                 let who = self.track_who(k);
-                let id = self.new_id();
-                let timing = self.timing;
+                let id = objects.new_id();
+                let timing = objects.timing;
                 let r = self.tracks[k].sm.reset(id, &timing, &who)?;
                 ev(
-                    &mut self.pending,
+                    &mut objects.pending,
                     id,
                     if r == crate::state::Accepted::AlreadyThere {
                         CommandState::Done
@@ -828,16 +919,16 @@ impl PlanarEngine {
             }
             C::TrackAddToGroup { track, group } => {
                 let k = self.track(&track)?;
-                let g = self
+                let g = objects
                     .group_idx
                     .get(&group)
                     .copied()
                     .ok_or_else(|| Rejection::unknown_object("group", &group))?;
                 let who = self.track_who(k);
-                if self.groups[g].sm.state != PlanarState::Enabled {
+                if objects.groups[g].sm.state != PlanarState::Enabled {
                     return Err(reject(
                         E_GROUP_NOT_READY,
-                        format!("{who}: group '{group}' is {:?}", self.groups[g].sm.state),
+                        format!("{who}: group '{group}' is {:?}", objects.groups[g].sm.state),
                     ));
                 }
                 if self.tracks[k].sm.state != PlanarState::Enabled {
@@ -849,30 +940,33 @@ impl PlanarEngine {
                 if let Some(og) = self.tracks[k].group {
                     return Err(reject(
                         E_GROUP_NOT_READY,
-                        format!("{who}: already member of group '{}'", self.groups[og].name),
+                        format!(
+                            "{who}: already member of group '{}'",
+                            objects.groups[og].name
+                        ),
                     ));
                 }
                 let tube = self.tracks[k].build_tube();
-                self.track_static_check(k, g, &tube)?;
+                self.track_static_check(objects, k, g, &tube)?;
                 self.tracks[k].tube = tube;
                 self.tracks[k].group = Some(g);
-                self.done_now()
+                objects.done_now()
             }
             C::TrackRemoveFromGroup { track } => {
                 let k = self.track(&track)?;
                 self.tracks[k].group = None;
                 self.tracks[k].tube.clear();
-                self.done_now()
+                objects.done_now()
             }
             C::TrackGetLength { track } => {
                 let k = self.track(&track)?;
-                let id = self.new_id();
-                ev(&mut self.pending, id, CommandState::Done);
+                let id = objects.new_id();
+                ev(&mut objects.pending, id, CommandState::Done);
                 reply(id, ReplyValue::Scalar(self.tracks[k].length()))
             }
             C::TrackGetArcLengthClosestTo { track, point } => {
                 let k = self.track(&track)?;
-                let p = self.track_point(k, "point", &point)?;
+                let p = self.track_point(objects, k, "point", &point)?;
                 if self.tracks[k].geo.is_empty() {
                     return Err(reject(
                         E_INVALID_STATE,
@@ -881,14 +975,14 @@ impl PlanarEngine {
                 }
                 let s = self.tracks[k].geo.closest(p);
                 // (`p` is already in stored coordinates: track_point subtracted the shift.)
-                let id = self.new_id();
-                ev(&mut self.pending, id, CommandState::Done);
+                let id = objects.new_id();
+                ev(&mut objects.pending, id, CommandState::Done);
                 reply(id, ReplyValue::Scalar(s))
             }
             C::TrackGetPositionAt { track, arc_length } => {
-                let p = self.track_position_at(&track, arc_length)?;
-                let id = self.new_id();
-                ev(&mut self.pending, id, CommandState::Done);
+                let p = self.track_position_at(objects, &track, arc_length)?;
+                let id = objects.new_id();
+                ev(&mut objects.pending, id, CommandState::Done);
                 reply(id, ReplyValue::Position(p))
             }
             C::TrackSetInitParameters {
@@ -910,12 +1004,12 @@ impl PlanarEngine {
                     collision_range_end,
                     ..Default::default()
                 };
-                self.track_set_init_parameters(k, &cfg)
+                self.track_set_init_parameters(objects, k, &cfg)
             }
             C::TrackGetPlanarObjectInfo { track } => {
                 let k = self.track(&track)?;
-                let id = self.new_id();
-                ev(&mut self.pending, id, CommandState::Done);
+                let id = objects.new_id();
+                ev(&mut objects.pending, id, CommandState::Done);
                 reply(
                     id,
                     ReplyValue::ObjectInfo(PlanarObjectInfo {
@@ -929,5 +1023,93 @@ impl PlanarEngine {
                 format!("{other:?} is not implemented"),
             )),
         }
+    }
+}
+
+impl TrackHooks for TrackSystem {
+    fn command(
+        &mut self,
+        objects: &mut Objects,
+        cmd: PlanarCommand,
+    ) -> Result<PlanarReply, Rejection> {
+        self.track_command(objects, cmd)
+    }
+
+    fn step_mover(
+        &mut self,
+        objects: &mut Objects,
+        i: usize,
+        dt: f64,
+        grid: &mut Grid,
+        cand: &mut Vec<u32>,
+    ) {
+        self.step_track_mover(objects, i, dt, grid, cand);
+    }
+
+    fn finish_idle(&mut self, objects: &mut Objects, i: usize) {
+        self.track_finish_idle(objects, i);
+    }
+
+    fn check_swept(
+        &mut self,
+        objects: &mut Objects,
+        i: usize,
+        swept: &crate::geometry::ConvexPolygon,
+    ) -> Result<(), Rejection> {
+        self.check_moving_tracks(objects, i, swept)
+    }
+
+    fn detach(&mut self, objects: &mut Objects, i: usize) {
+        self.detach_from_track(objects, i);
+    }
+
+    fn part_moved(&mut self, part_oid: u32, cs: u32) {
+        for t in self.tracks.iter_mut().filter(|t| t.part_oid == part_oid) {
+            t.cs = cs;
+        }
+    }
+
+    fn inject_error(
+        &mut self,
+        name: &str,
+        reaction: ErrorReaction,
+        timing: &crate::state::Timing,
+        events: &mut Vec<motion_core::CommandEvent>,
+    ) -> Result<(), Rejection> {
+        let k = self.track(name)?;
+        self.tracks[k]
+            .sm
+            .error(E_OBJECT_ERROR, reaction, timing, events);
+        Ok(())
+    }
+
+    fn mover_on_track(
+        &self,
+        objects: &Objects,
+        m: &crate::objects::Mover,
+    ) -> Option<OnTrackSnapshot> {
+        self.on_track_snapshot(objects, m)
+    }
+
+    fn track_name(&self, k: usize) -> String {
+        self.tracks[k].name.clone()
+    }
+
+    fn group_tracks(&self, g: usize) -> Vec<String> {
+        self.tracks
+            .iter()
+            .filter(|t| t.group == Some(g))
+            .map(|t| t.name.clone())
+            .collect()
+    }
+
+    fn snapshots(
+        &self,
+        objects: &Objects,
+    ) -> (
+        Vec<TrackSnapshot>,
+        Vec<crate::snapshot::VirtualAxisSnapshot>,
+    ) {
+        (self.track_snapshots(objects), self.axis_snapshots())
     }
 }

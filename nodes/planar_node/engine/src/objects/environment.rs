@@ -2,7 +2,7 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl Objects {
     // ------------------------------------------------------------------ environment (§3.1)
 
     pub(super) fn env_add_stator(&mut self, x: f64, y: f64) -> Result<PlanarReply, Rejection> {

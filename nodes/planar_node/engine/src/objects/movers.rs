@@ -3,11 +3,12 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl Objects {
     // ------------------------------------------------------------------ mover commands (§3.2)
 
     pub(crate) fn move_to_position(
         &mut self,
+        tracks: &mut dyn TrackHooks,
         i: usize,
         target: PositionXYC,
         constraint: DynamicConstraint,
@@ -56,7 +57,7 @@ impl PlanarEngine {
             m.envelope
         };
         let swept = ConvexPolygon::hull_of(&start, &end_fp);
-        self.check_swept(i, &swept)?;
+        self.check_swept(tracks, i, &swept)?;
         let id = self.new_id();
         let ev_ = &mut self.pending;
         let m = &mut self.movers[i];
@@ -78,6 +79,7 @@ impl PlanarEngine {
 
     pub(crate) fn move_c(
         &mut self,
+        tracks: &mut dyn TrackHooks,
         i: usize,
         target: f64,
         constraint: DynamicConstraint,
@@ -134,7 +136,7 @@ impl PlanarEngine {
                 &ConvexPolygon::hull_of(&m.envelope, &m.square_at(m.xy_out().pos)),
                 &m.square_at(end_p),
             );
-            self.check_swept(i, &swept)?;
+            self.check_swept(tracks, i, &swept)?;
             let m = &mut self.movers[i];
             m.reserved = Some(match m.reserved {
                 Some(r) => ConvexPolygon::hull_of(&r, &swept),

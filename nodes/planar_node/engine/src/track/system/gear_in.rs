@@ -2,7 +2,7 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl TrackSystem {
     // ------------------------------------------------------------------ virtual axes (§5.8.4)
 
     pub(super) fn axis(&self, name: &str) -> Result<usize, Rejection> {
@@ -14,6 +14,7 @@ impl PlanarEngine {
 
     pub(super) fn axis_move(
         &mut self,
+        objects: &mut Objects,
         a: usize,
         who: &str,
         plan: impl FnOnce(
@@ -24,8 +25,8 @@ impl PlanarEngine {
             return Err(reject(E_INVALID_STATE, format!("{who}: not powered")));
         }
         let p = plan(&self.axes[a].ax).map_err(|e| traj_err(who, e))?;
-        let id = self.new_id();
-        let ev_ = &mut self.pending;
+        let id = objects.new_id();
+        let ev_ = &mut objects.pending;
         let x = &mut self.axes[a];
         end(ev_, &mut x.cmd, CommandState::Aborted);
         x.ax.start(p);
@@ -35,10 +36,10 @@ impl PlanarEngine {
     }
 
     /// Advances the virtual axes (before the movers, so slaves see the new master state).
-    pub(crate) fn step_axes(&mut self, dt: f64) {
+    pub(crate) fn step_axes(&mut self, objects: &mut Objects, dt: f64) {
         for x in &mut self.axes {
             if x.ax.advance(dt) {
-                end(&mut self.pending, &mut x.cmd, CommandState::Done);
+                end(&mut objects.pending, &mut x.cmd, CommandState::Done);
             }
         }
     }
@@ -63,10 +64,16 @@ impl PlanarEngine {
     /// The master's motion (master coordinates) as a profile, and the time in it that belongs
     /// to the slave's current state: axes and movers before `i` have already advanced this
     /// cycle, movers after it not yet.
-    pub(super) fn master_motion(&self, g: &GearIn, i: usize, dt: f64) -> Option<(Profile1, f64)> {
+    pub(super) fn master_motion(
+        &self,
+        objects: &Objects,
+        g: &GearIn,
+        i: usize,
+        dt: f64,
+    ) -> Option<(Profile1, f64)> {
         let ((p, t), advanced) = match g.master {
             Master::Mover(j) => {
-                let mt = self.movers[j].track.as_ref()?;
+                let mt = objects.movers[j].track.as_ref()?;
                 let motion = match &mt.plan {
                     Some((mp, t)) => (*mp, *t),
                     None => (Profile1::hold(mt.state()), 0.0),
@@ -115,6 +122,7 @@ impl PlanarEngine {
     #[allow(clippy::too_many_arguments)]
     pub(super) fn gear_in(
         &mut self,
+        objects: &mut Objects,
         i: usize,
         master: Master,
         trail: Vec<usize>,
@@ -123,7 +131,7 @@ impl PlanarEngine {
         constraint: DynamicConstraint,
         o: crate::track::GearInPosOnTrackWithMasterMoverOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", self.movers[i].name);
+        let who = format!("mover '{}'", objects.movers[i].name);
         finite(&who, "master_sync_position", m_sync)?;
         finite(&who, "slave_sync_position", s_sync)?;
         for (f, v) in [
@@ -145,8 +153,8 @@ impl PlanarEngine {
                 return Err(reject(E_INVALID_PARAMETER, format!("{who}: {f} = {v} < 0")));
             }
         }
-        self.require_enabled(i, "GearInPosOnTrackWithMasterMover")?;
-        self.require_mode(i, CommandKind::GearIn, "GearInPosOnTrackWithMasterMover")?;
+        objects.require_enabled(i, "GearInPosOnTrackWithMasterMover")?;
+        objects.require_mode(i, CommandKind::GearIn, "GearInPosOnTrackWithMasterMover")?;
         let mt = match master {
             Master::Mover(j) => {
                 if i == j {
@@ -155,7 +163,7 @@ impl PlanarEngine {
                         format!("{who}: master = slave"),
                     ));
                 }
-                let mm = &self.movers[j];
+                let mm = &objects.movers[j];
                 if mm.sm.state != PlanarState::Enabled {
                     return Err(reject(
                         E_INVALID_STATE,
@@ -172,7 +180,7 @@ impl PlanarEngine {
             }
             Master::Axis(_) => None,
         };
-        let tm = self.movers[i].track.as_ref().expect("OnTrack");
+        let tm = objects.movers[i].track.as_ref().expect("OnTrack");
         let cur = tm.track;
         let mut trail = trail;
         if trail.is_empty() {
@@ -180,7 +188,7 @@ impl PlanarEngine {
             if let (true, Some(mt)) = (o.follow_mover, mt) {
                 if mt.track != cur {
                     // The shortest way to the master's track, then the master's path.
-                    if let Some(r) = self.route(cur, mt.track) {
+                    if let Some(r) = self.route(objects, cur, mt.track) {
                         trail.extend(r);
                     }
                 }
@@ -207,7 +215,7 @@ impl PlanarEngine {
                 ),
             ));
         }
-        let modes = self.track_modes();
+        let modes = self.track_modes(objects);
         for &k in &trail {
             if modes[k] == TrackOperationMode::Configuring {
                 return Err(reject(
@@ -268,11 +276,11 @@ impl PlanarEngine {
             let hi = tm.base + trail.iter().map(|&k| self.tracks[k].length()).sum::<f64>();
             (tm.base, hi)
         };
-        let m = &self.movers[i];
+        let m = &objects.movers[i];
         let (dyn_, reduced) = m.cfg.xy_dynamics(&constraint, &who)?;
-        let id = self.new_id();
-        let ev_ = &mut self.pending;
-        let m = &mut self.movers[i];
+        let id = objects.new_id();
+        let ev_ = &mut objects.pending;
+        let m = &mut objects.movers[i];
         end(ev_, &mut m.xy_cmd, CommandState::Aborted);
         end(ev_, &mut m.halt_cmd, CommandState::Aborted);
         let tm = m.track.as_mut().expect("OnTrack");
@@ -305,8 +313,8 @@ impl PlanarEngine {
     /// One cycle of a gear-in: follow the master's path (followMover), compute the target
     /// `s*`, `inSync`, and a fresh time-optimal chase plan to (s* + ṁ·T, ṁ); brake exactly to
     /// the trail boundary when the chase would pass it (§5.8.1).
-    pub(super) fn gear_step(&mut self, i: usize, dt: f64) {
-        let Some(tm) = self.movers[i].track.as_ref() else {
+    pub(super) fn gear_step(&mut self, objects: &mut Objects, i: usize, dt: f64) {
+        let Some(tm) = objects.movers[i].track.as_ref() else {
             return;
         };
         let Some(g) = tm.gear.as_ref() else {
@@ -315,10 +323,10 @@ impl PlanarEngine {
         if g.boundary || tm.braking {
             return;
         }
-        let Some((mp, t0)) = self.master_motion(g, i, dt) else {
+        let Some((mp, t0)) = self.master_motion(objects, g, i, dt) else {
             // The master left its track: the coupling ends.
-            let ev_ = &mut self.pending;
-            let m = &mut self.movers[i];
+            let ev_ = &mut objects.pending;
+            let m = &mut objects.movers[i];
             end(ev_, &mut m.xy_cmd, CommandState::Error(E_OBJECT_ERROR));
             let d = m.cfg.default_dynamics;
             if let Some(t) = &mut m.track {
@@ -329,7 +337,7 @@ impl PlanarEngine {
         // followMover: the slave's way grows with the master's path.
         let mut extend: Vec<usize> = Vec::new();
         if let (true, Master::Mover(j)) = (g.follow, g.master) {
-            let mt = self.movers[j].track.as_ref().expect("master on a track");
+            let mt = objects.movers[j].track.as_ref().expect("master on a track");
             let mut last = *tm.route.last().unwrap_or(&tm.track);
             for k in std::iter::once(mt.track).chain(mt.route.iter().copied()) {
                 if k != tm.track
@@ -439,7 +447,7 @@ impl PlanarEngine {
             }
         }
         let lens: f64 = extend.iter().map(|&k| self.tracks[k].length()).sum();
-        let m = &mut self.movers[i];
+        let m = &mut objects.movers[i];
         let tm = m.track.as_mut().expect("on track");
         tm.route.extend(extend);
         tm.plan = p;

@@ -2,18 +2,19 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl TrackSystem {
     // ------------------------------------------------------------------ MoveOnTrack (§5.6)
 
     pub(super) fn move_on_track(
         &mut self,
+        objects: &mut Objects,
         i: usize,
         target_track: Option<usize>,
         target: f64,
         constraint: DynamicConstraint,
         options: crate::track::MoveOnTrackOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", self.movers[i].name);
+        let who = format!("mover '{}'", objects.movers[i].name);
         finite(&who, "target_position", target)?;
         finite(&who, "options.gap", options.gap)?;
         finite(&who, "options.modulo_tolerance", options.modulo_tolerance)?;
@@ -26,9 +27,9 @@ impl PlanarEngine {
                 ),
             ));
         }
-        self.require_enabled(i, "MoveOnTrack")?;
-        self.require_mode(i, CommandKind::MoveOnTrack, "MoveOnTrack")?;
-        self.require_group_ready(i)?;
+        objects.require_enabled(i, "MoveOnTrack")?;
+        objects.require_mode(i, CommandKind::MoveOnTrack, "MoveOnTrack")?;
+        objects.require_group_ready(i)?;
         let dir = options.direction;
         let n = options.additional_turns;
         if n != 0 && matches!(dir, Direction::NonModulo | Direction::ShortestWay) {
@@ -43,7 +44,7 @@ impl PlanarEngine {
                 format!("{who}: modulo_tolerance not allowed with NonModulo"),
             ));
         }
-        let m = &self.movers[i];
+        let m = &objects.movers[i];
         let Some(tm) = m.track.as_ref() else {
             return Err(reject(
                 E_INVALID_COMMAND_MODE,
@@ -53,7 +54,7 @@ impl PlanarEngine {
         let (dyn_, reduced) = m.cfg.xy_dynamics(&constraint, &who)?;
         let cur = tm.track;
         let kt = target_track.unwrap_or(cur);
-        let modes = self.track_modes();
+        let modes = self.track_modes(objects);
         let t = &self.tracks[kt];
         let l = t.length();
         let s = tm.s();
@@ -121,7 +122,7 @@ impl PlanarEngine {
                     format!("{who}: target track '{}' is {:?}", t.name, t.sm.state),
                 ));
             }
-            let Some(route) = self.route(cur, kt) else {
+            let Some(route) = self.route(objects, cur, kt) else {
                 return Err(reject(
                     E_TARGET_UNREACHABLE,
                     format!(
@@ -153,13 +154,13 @@ impl PlanarEngine {
         }
         let mut on_route = vec![cur];
         on_route.extend(route.iter().copied());
-        self.check_track_tubes_free(i, &on_route)?;
-        let tm = self.movers[i].track.as_ref().expect("on track");
+        self.check_track_tubes_free(objects, i, &on_route)?;
+        let tm = objects.movers[i].track.as_ref().expect("on track");
         let prof = Profile1::to_position(tm.state(), r_target, 0.0, &limits_of(&dyn_))
             .map_err(|e| traj_err(&who, e))?;
-        let id = self.new_id();
-        let ev_ = &mut self.pending;
-        let m = &mut self.movers[i];
+        let id = objects.new_id();
+        let ev_ = &mut objects.pending;
+        let m = &mut objects.movers[i];
         end(ev_, &mut m.xy_cmd, CommandState::Aborted);
         end(ev_, &mut m.halt_cmd, CommandState::Aborted);
         let tm = m.track.as_mut().expect("on track");
@@ -181,7 +182,7 @@ impl PlanarEngine {
     /// Shortest route (by length of the tracks passed) from the end of `from` to `to` over
     /// traversable links between Enabled tracks: the tracks after `from`, ending with `to`
     /// (§5.6.5). The start track is never passed again (that would be a cycle).
-    pub(super) fn route(&self, from: usize, to: usize) -> Option<Vec<usize>> {
+    pub(super) fn route(&self, objects: &Objects, from: usize, to: usize) -> Option<Vec<usize>> {
         let n = self.tracks.len();
         let mut dist = vec![f64::INFINITY; n];
         let mut prev = vec![usize::MAX; n];
@@ -189,7 +190,9 @@ impl PlanarEngine {
         // A usable link from `u` to `k`: traversable now, to an Enabled track, never back to
         // the start track.
         let usable = |u: usize, k: usize| {
-            k != from && self.tracks[k].sm.state == PlanarState::Enabled && self.traversable(u, k)
+            k != from
+                && self.tracks[k].sm.state == PlanarState::Enabled
+                && self.traversable(objects, u, k)
         };
         for &k in &self.tracks[from].next {
             if usable(from, k) {
@@ -227,43 +230,29 @@ impl PlanarEngine {
         Some(r)
     }
 
-    /// True if every mover is on one and the same track (then the guard is not needed).
-    pub(crate) fn all_on_one_track(&self) -> bool {
-        let mut k = None;
-        for m in &self.movers {
-            match (&m.track, k) {
-                (None, _) => return false,
-                (Some(t), None) => k = Some(t.track),
-                (Some(t), Some(x)) if t.track != x => return false,
-                _ => {}
-            }
-        }
-        true
-    }
-
     // ------------------------------------------------------------------ part positions (§5.12)
 
-    pub(super) fn track_part(&self, k: usize) -> Option<usize> {
+    pub(super) fn track_part(&self, objects: &Objects, k: usize) -> Option<usize> {
         let oid = self.tracks[k].part_oid;
         if oid == 0 {
             return None;
         }
-        self.parts.iter().position(|p| p.oid == oid)
+        objects.parts.iter().position(|p| p.oid == oid)
     }
 
     /// Position index of track `k`'s part for a link (0 = the part's current index).
-    pub(super) fn track_part_index(&self, k: usize, index: u32) -> u32 {
-        match (index, self.track_part(k)) {
-            (0, Some(p)) => self.parts[p].index,
+    pub(super) fn track_part_index(&self, objects: &Objects, k: usize, index: u32) -> u32 {
+        match (index, self.track_part(objects, k)) {
+            (0, Some(p)) => objects.parts[p].index,
             (i, _) => i,
         }
     }
 
     /// Shift of track `k`'s stored geometry with its part at `index` (0 = current) \[mm\].
-    pub(crate) fn track_shift_at(&self, k: usize, index: u32) -> V2 {
-        match self.track_part(k) {
+    pub(crate) fn track_shift_at(&self, objects: &Objects, k: usize, index: u32) -> V2 {
+        match self.track_part(objects, k) {
             Some(p) => {
-                let part = &self.parts[p];
+                let part = &objects.parts[p];
                 let i = if index == 0 { part.index } else { index };
                 part.positions
                     .get(&i)
@@ -277,15 +266,16 @@ impl PlanarEngine {
     /// True if the link `from` end → `to` start is traversable now (§1.6, §5.12): links made
     /// only for specified part positions need exactly those positions; the others need the
     /// two track ends to meet with the parts where they are.
-    pub(crate) fn traversable(&self, from: usize, to: usize) -> bool {
+    pub(crate) fn traversable(&self, objects: &Objects, from: usize, to: usize) -> bool {
         if let Some(&(_, fi, ti)) = self.tracks[from].link_only.iter().find(|x| x.0 == to) {
-            return self.track_part_index(from, 0) == fi && self.track_part_index(to, 0) == ti;
+            return self.track_part_index(objects, from, 0) == fi
+                && self.track_part_index(objects, to, 0) == ti;
         }
         let (a, b) = (&self.tracks[from], &self.tracks[to]);
         match (a.geo.end_pose(), b.geo.start_pose()) {
             (Some(e), Some(st)) => {
-                let pe = e.p + self.track_shift_at(from, 0);
-                let ps = st.p + self.track_shift_at(to, 0);
+                let pe = e.p + self.track_shift_at(objects, from, 0);
+                let ps = st.p + self.track_shift_at(objects, to, 0);
                 (pe - ps).norm() <= 1e-3
             }
             _ => false,

@@ -137,7 +137,7 @@ fn calls_of(eng: &PlanarEngine, cfg: &PlanarConfig, k: usize) -> Result<Vec<Call
         for (j, link) in list.iter().enumerate() {
             let key = format!("{key}.{field}[{j}]");
             let (other, cmd) = link_command(&t.name, start, link);
-            let o = eng.track(&other).map_err(|r| at(&key, &t.name, r))?;
+            let o = eng.tracks.track(&other).map_err(|r| at(&key, &t.name, r))?;
             let wait = match (o == k, start) {
                 (true, _) => Wait::Nothing,
                 (false, true) => Wait::Finished(o),
@@ -147,7 +147,7 @@ fn calls_of(eng: &PlanarEngine, cfg: &PlanarConfig, k: usize) -> Result<Vec<Call
         }
         if start {
             // The geometry lies between the two kinds of links.
-            let refid = eng.tracks[k].part_oid;
+            let refid = eng.tracks.tracks[k].part_oid;
             for (j, item) in t.geometry.iter().enumerate() {
                 calls.push(Call {
                     key: format!("{key}.geometry[{j}]"),
@@ -183,7 +183,9 @@ pub(crate) fn apply(eng: &mut PlanarEngine, cfg: &PlanarConfig) -> Result<(), Re
                 let ready = match c.wait {
                     Wait::Nothing => true,
                     Wait::Finished(o) => next[o] == calls[o].len(),
-                    Wait::Started(o) => next[o] == calls[o].len() || !eng.tracks[o].geo.is_empty(),
+                    Wait::Started(o) => {
+                        next[o] == calls[o].len() || !eng.tracks.tracks[o].geo.is_empty()
+                    }
                 };
                 if !ready {
                     break;
@@ -218,13 +220,14 @@ pub(crate) fn apply(eng: &mut PlanarEngine, cfg: &PlanarConfig) -> Result<(), Re
     }
     // Enable would refuse a track off its part; a configured one is refused at load.
     for (k, t) in cfg.tracks.iter().enumerate() {
-        if !eng.tracks[k].geo.is_empty() {
-            eng.track_lies_on_part(k)
+        if !eng.tracks.tracks[k].geo.is_empty() {
+            eng.tracks
+                .track_lies_on_part(&eng.objects, k)
                 .map_err(|r| at(&format!("tracks[{k}].geometry"), &t.name, r))?;
         }
     }
     // The start-up calls are not commands of anybody: no events, ids start at 1.
-    eng.pending.clear();
-    eng.next_id = 1;
+    eng.objects.pending.clear();
+    eng.objects.next_id = 1;
     Ok(())
 }

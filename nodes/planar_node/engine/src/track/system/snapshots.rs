@@ -2,10 +2,14 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl TrackSystem {
     // ------------------------------------------------------------------ snapshots
 
-    pub(crate) fn on_track_snapshot(&self, m: &crate::objects::Mover) -> Option<OnTrackSnapshot> {
+    pub(crate) fn on_track_snapshot(
+        &self,
+        objects: &Objects,
+        m: &crate::objects::Mover,
+    ) -> Option<OnTrackSnapshot> {
         let tm = m.track.as_ref()?;
         let t = &self.tracks[tm.track];
         let s = tm.s();
@@ -29,14 +33,14 @@ impl PlanarEngine {
             waiting: tm.limited || (tm.plan.is_none() && tm.target != TrackTarget::None),
             in_sync: tm.gear.as_ref().is_some_and(|g| g.in_sync),
             gear_master: tm.gear.as_ref().map(|g| match g.master {
-                Master::Mover(j) => self.movers[j].name.clone(),
+                Master::Mover(j) => objects.movers[j].name.clone(),
                 Master::Axis(a) => self.axes[a].name.clone(),
             }),
         })
     }
 
-    pub(crate) fn track_snapshots(&self) -> Vec<TrackSnapshot> {
-        let modes = self.track_modes();
+    pub(crate) fn track_snapshots(&self, objects: &Objects) -> Vec<TrackSnapshot> {
+        let modes = self.track_modes(objects);
         self.tracks
             .iter()
             .enumerate()
@@ -51,7 +55,7 @@ impl PlanarEngine {
                 movers: t
                     .order
                     .iter()
-                    .map(|&j| self.movers[j].name.clone())
+                    .map(|&j| objects.movers[j].name.clone())
                     .collect(),
                 previous_tracks: t
                     .prev
@@ -73,7 +77,7 @@ impl PlanarEngine {
                 traversable_subsequent_tracks: t
                     .next
                     .iter()
-                    .filter(|&&x| self.traversable(k, x))
+                    .filter(|&&x| self.traversable(objects, k, x))
                     .map(|&x| self.tracks[x].name.clone())
                     .collect(),
             })

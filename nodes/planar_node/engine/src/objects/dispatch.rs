@@ -2,8 +2,12 @@
 
 use super::*;
 
-impl PlanarEngine {
-    pub(super) fn dispatch(&mut self, cmd: PlanarCommand) -> Result<PlanarReply, Rejection> {
+impl Objects {
+    pub(crate) fn dispatch(
+        &mut self,
+        tracks: &mut dyn TrackHooks,
+        cmd: PlanarCommand,
+    ) -> Result<PlanarReply, Rejection> {
         use PlanarCommand as C;
         match cmd {
             C::EnvironmentClear => {
@@ -81,7 +85,7 @@ impl PlanarEngine {
                 options,
             } => {
                 let i = self.mover(&mover)?;
-                self.move_to_position(i, target_position, constraint, options)
+                self.move_to_position(tracks, i, target_position, constraint, options)
             }
             C::MoveZ {
                 mover,
@@ -114,7 +118,7 @@ impl PlanarEngine {
                 options,
             } => {
                 let i = self.mover(&mover)?;
-                self.move_c(i, target_position, constraint, options)
+                self.move_c(tracks, i, target_position, constraint, options)
             }
             C::Halt { mover, constraint } => {
                 let i = self.mover(&mover)?;
@@ -397,16 +401,13 @@ impl PlanarEngine {
                             .error(E_OBJECT_ERROR, reaction, &t, &mut self.pending);
                     }
                     ObjectKind::Track => {
-                        let k = self.track(&name)?;
-                        self.tracks[k]
-                            .sm
-                            .error(E_OBJECT_ERROR, reaction, &t, &mut self.pending);
+                        tracks.inject_error(&name, reaction, &t, &mut self.pending)?;
                     }
                 }
                 self.done_now()
             }
             // Tracks and the on-track mover methods (§3.2, §3.3): crate::track.
-            cmd => self.track_command(cmd),
+            cmd => tracks.command(self, cmd),
         }
     }
 }

@@ -2,20 +2,20 @@
 
 use super::*;
 
-impl PlanarEngine {
+impl TrackSystem {
     // ------------------------------------------------------------------ the on-track cycle
 
     /// Forward / backward limits of the reach of mover `i` (route coordinates): the
     /// neighbours' reach intervals minus / plus its gap (§5.6.3). No alloc, no lock.
-    pub(super) fn gap_limits(&self, i: usize) -> (f64, f64) {
-        let tm = self.movers[i].track.as_ref().expect("on track");
+    pub(super) fn gap_limits(&self, objects: &Objects, i: usize) -> (f64, f64) {
+        let tm = objects.movers[i].track.as_ref().expect("on track");
         let trk = &self.tracks[tm.track];
         let order = &trk.order;
         let n = order.len();
         let l = trk.length();
         let s = tm.s();
         let rel = |j: usize| {
-            let o = self.movers[j].track.as_ref().expect("on track");
+            let o = objects.movers[j].track.as_ref().expect("on track");
             let (lo, hi) = crate::track::gap::stop_interval(o.v, o.a, o.safe.0, o.safe.1);
             (o.s(), lo, hi)
         };
@@ -50,7 +50,7 @@ impl PlanarEngine {
         // path) occupies the switch at the end of this track.
         if let Some(w) = trk.end_switch {
             let zb = l - trk.range_end;
-            if s < zb - 1e-9 && self.switch_occupied(i, w) {
+            if s < zb - 1e-9 && self.switch_occupied(objects, i, w) {
                 fwd = fwd.min(tm.r - s + zb);
             }
         }
@@ -71,8 +71,15 @@ impl PlanarEngine {
 
     /// A plan of mover `i` towards its command target clamped by the gap limits, checked for
     /// its first cycle; None if only a committed stop is safe.
-    pub(super) fn gap_plan(&self, i: usize, fwd: f64, bwd: f64, dt: f64) -> Option<Profile1> {
-        let tm = self.movers[i].track.as_ref()?;
+    pub(super) fn gap_plan(
+        &self,
+        objects: &Objects,
+        i: usize,
+        fwd: f64,
+        bwd: f64,
+        dt: f64,
+    ) -> Option<Profile1> {
+        let tm = objects.movers[i].track.as_ref()?;
         let TrackTarget::Position(x) = tm.target else {
             return None;
         };
@@ -106,34 +113,35 @@ impl PlanarEngine {
     /// One cycle of an on-track mover: plan, gap control, route transitions, guard, commit.
     pub(crate) fn step_track_mover(
         &mut self,
+        objects: &mut Objects,
         i: usize,
         dt: f64,
         grid: &mut Grid,
         cand: &mut Vec<u32>,
     ) {
         let (active, c_moving) = {
-            let m = &self.movers[i];
+            let m = &objects.movers[i];
             let tm = m.track.as_ref().expect("on track");
             (tm.active(), m.c.moving())
         };
         if !active && !c_moving {
-            self.finish_idle(i);
+            objects.finish_idle(self, i);
             return;
         }
         // 0. Gear-in: a fresh chase plan towards the moving target (§5.8.1).
-        self.gear_step(i, dt);
+        self.gear_step(objects, i, dt);
         // 1. Plan maintenance: gap checks and re-plans (§5.6.3).
         let needs_limits = {
-            let tm = self.movers[i].track.as_ref().expect("on track");
+            let tm = objects.movers[i].track.as_ref().expect("on track");
             (tm.plan.is_some() && !tm.braking)
                 || (matches!(tm.target, TrackTarget::Position(_))
                     && (tm.plan.is_none() || tm.limited))
         };
         if needs_limits {
-            let (fwd, bwd) = self.gap_limits(i);
+            let (fwd, bwd) = self.gap_limits(objects, i);
             let mut replace: Option<(Option<Profile1>, bool)> = None;
             {
-                let tm = self.movers[i].track.as_ref().expect("on track");
+                let tm = objects.movers[i].track.as_ref().expect("on track");
                 if let Some((p, t)) = &tm.plan {
                     if !tm.braking {
                         let c = p.at((t + dt).min(p.duration()));
@@ -141,11 +149,11 @@ impl PlanarEngine {
                         let d = &tm.plan_dyn;
                         let new = reach(c.pos, c.vel, c.acc, d.deceleration, d.jerk);
                         if !step_ok(old, new, fwd, bwd) {
-                            replace = Some((self.gap_plan(i, fwd, bwd, dt), true));
+                            replace = Some((self.gap_plan(objects, i, fwd, bwd, dt), true));
                         }
                     }
                 }
-                let tm = self.movers[i].track.as_ref().expect("on track");
+                let tm = objects.movers[i].track.as_ref().expect("on track");
                 if replace.is_none() {
                     if let TrackTarget::Position(x) = tm.target {
                         let lim = clamp_target(x, tm.r, fwd, bwd);
@@ -162,14 +170,14 @@ impl PlanarEngine {
                             }
                         };
                         if resume {
-                            if let Some(p) = self.gap_plan(i, fwd, bwd, dt) {
+                            if let Some(p) = self.gap_plan(objects, i, fwd, bwd, dt) {
                                 replace = Some((Some(p), false));
                             }
                         }
                     }
                 }
             }
-            let m = &mut self.movers[i];
+            let m = &mut objects.movers[i];
             let tm = m.track.as_mut().expect("on track");
             tm.since_replan = tm.since_replan.saturating_add(1);
             match replace {
@@ -201,7 +209,7 @@ impl PlanarEngine {
             }
         }
         // 2. Next state along the track.
-        let m = &self.movers[i];
+        let m = &objects.movers[i];
         let tm = m.track.as_ref().expect("on track");
         let (next, plan_done) = match &tm.plan {
             Some((p, t)) => {
@@ -240,7 +248,7 @@ impl PlanarEngine {
         let mut pose: TrackPose = geo.pose_at(next.pos - base);
         if self.tracks[k].part_oid != 0 {
             // Tracks move with their part (§1.6).
-            pose.p += self.track_shift_at(k, 0);
+            pose.p += self.track_shift_at(objects, k, 0);
         }
         let tng = pose.tangent();
         let nrm = V2::new(-tng.y, tng.x);
@@ -261,7 +269,7 @@ impl PlanarEngine {
             m.c.peek(dt)
         };
         // 3. The no-overlap guard against everything that is not gap-controlled with us.
-        if !self.guard_full {
+        if !objects.guard_full {
             // All movers are on this one track: gap control separates them; keep a cheap,
             // conservative envelope (square of the diagonal grown by the maximum-dynamics stop
             // distance) for the cycle in which a mover leaves the track.
@@ -275,7 +283,7 @@ impl PlanarEngine {
             let c = xy_next.pos;
             let env =
                 crate::geometry::ConvexPolygon::aabb_box(c - V2::new(h, h), c + V2::new(h, h));
-            self.movers[i].envelope = env;
+            objects.movers[i].envelope = env;
         } else if !m.guard_stop {
             let o = &m.offset;
             let shown = Kin2 {
@@ -283,33 +291,33 @@ impl PlanarEngine {
                 vel: xy_next.vel,
                 acc: xy_next.acc,
             };
-            let env = Self::envelope_of(m, &shown, &c_next);
+            let env = Objects::envelope_of(m, &shown, &c_next);
             grid.query(m.cs, &env, cand);
             let my_track = k;
             let blocker = cand.iter().map(|&j| j as usize).find(|&j| {
-                if j == i || self.movers[j].cs != m.cs {
+                if j == i || objects.movers[j].cs != m.cs {
                     return false;
                 }
-                if let Some(o) = &self.movers[j].track {
+                if let Some(o) = &objects.movers[j].track {
                     let t = &self.tracks[my_track];
                     if o.track == my_track || t.next.contains(&o.track) || t.prev.contains(&o.track)
                     {
                         return false;
                     }
                 }
-                env.intersects(&self.movers[j].envelope)
+                env.intersects(&objects.movers[j].envelope)
             });
             if let Some(j) = blocker {
-                self.track_guard_fire(i, j);
-                self.finish_idle(i);
+                self.track_guard_fire(objects, i, j);
+                objects.finish_idle(self, i);
                 return;
             }
             grid.insert(m.cs, i as u32, &env);
-            self.movers[i].envelope = env;
+            objects.movers[i].envelope = env;
         }
         // 4. Commit.
-        let ev_ = &mut self.pending;
-        let m = &mut self.movers[i];
+        let ev_ = &mut objects.pending;
+        let m = &mut objects.movers[i];
         let tm = m.track.as_mut().expect("on track");
         tm.r = next.pos;
         tm.v = next.vel;
@@ -356,21 +364,21 @@ impl PlanarEngine {
         }
         if let Some(nk) = switch_to {
             self.tracks[old_track].order.retain(|&x| x != i);
-            self.renumber(old_track);
-            self.insert_into_order(i, nk);
+            self.renumber(objects, old_track);
+            self.insert_into_order(objects, i, nk);
         }
-        self.finish_idle(i);
+        objects.finish_idle(self, i);
     }
 
     /// The guard refuses the next set point of on-track mover `i` because of mover `j`:
     /// the command fails with E_COLLISION and the mover stops along the track (max dynamics).
-    pub(super) fn track_guard_fire(&mut self, i: usize, j: usize) {
-        self.last_object_info = PlanarObjectInfo {
+    pub(super) fn track_guard_fire(&mut self, objects: &mut Objects, i: usize, j: usize) {
+        objects.last_object_info = PlanarObjectInfo {
             object_type: PlanarObjectType::Mover,
-            id: self.movers[j].oid,
+            id: objects.movers[j].oid,
         };
-        let ev_ = &mut self.pending;
-        let m = &mut self.movers[i];
+        let ev_ = &mut objects.pending;
+        let m = &mut objects.movers[i];
         end(ev_, &mut m.xy_cmd, CommandState::Error(E_COLLISION));
         let mx = m.cfg.max_dynamics;
         if let Some(tm) = &mut m.track {
