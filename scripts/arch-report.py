@@ -16,7 +16,8 @@ import sys
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 ENGINES = ["nodes/motion_core/src", "nodes/axis_node/single_axis/src",
            "nodes/axis_node/collision_avoidance/src",
-           "nodes/axis_node/axis_groups/src", "nodes/axis_node/engine/src", "nodes/planar_node/engine/src",
+           "nodes/axis_node/axis_groups/src", "nodes/axis_node/isg_platform/src",
+           "nodes/axis_node/engine/src", "nodes/planar_node/engine/src",
            "nodes/pickplace_node/engine/src"]
 LIMIT = 1200
 

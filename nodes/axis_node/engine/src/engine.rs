@@ -62,7 +62,8 @@ impl AxisEngine {
             ca: crate::ca::CaGroups::default(),
         };
         e.build_groups(&config.groups)?;
-        e.build_platform(config)?;
+        e.platform_cx()
+            .build(config.platform_profile, &config.platform)?;
         Ok(e)
     }
 
@@ -233,19 +234,28 @@ impl AxisEngine {
         }
         let ax = self.set.axis_index(cmd.axis().unwrap_or_default())?;
         // Profile hooks (plcopen_platform.md): screening, then bookkeeping of the result.
-        self.platform_pre(ax, &mut cmd)?;
+        let (order, kind) = {
+            let mut call = cmd.platform_call();
+            self.platform_cx().screen(ax, &mut call)?;
+            call.classify()
+        };
         self.group_screen_axis_command(ax, &cmd)?;
         if cmd.is_plain_motion() {
             self.ca.screen_single_axis_motion(ax)?;
         }
-        let (order, kind) = crate::platform::classify(&cmd);
         // The FBs added later (phasing, multi-master, ext. set-point generator, §4.7), routed in hooks.rs.
         let res = if is_axis3(&cmd) {
             self.command_axis3(cmd)
         } else {
             self.axis_command(ax, cmd)
         };
-        self.platform_post(ax, order, kind, res)
+        match res {
+            Ok(reply) => {
+                self.platform_cx().accepted(ax, order, kind, reply.id);
+                Ok(reply)
+            }
+            Err(r) => Err(self.platform_cx().refused(r)),
+        }
     }
 }
 
@@ -369,15 +379,15 @@ impl Engine for AxisEngine {
         }
         self.tick = tick.index;
         self.set.begin_cycle();
-        self.platform_step_pre();
+        self.platform_cx().step_pre();
         self.groups_step(tick.dt);
         self.ca.step(tick.dt, &mut self.set.axes, &mut self.set.fbs);
         self.set.step_axes(tick.dt);
-        self.platform_step_post();
+        self.platform_cx().step_post();
         self.set.end_cycle();
         let from = events.len();
         events.append(&mut self.set.fbs.events);
-        self.platform_map_events(&mut events[from..]);
+        self.platform_cx().map_events(&mut events[from..]);
         self.raw_route(events, from);
     }
 

@@ -1,7 +1,7 @@
-//! The axis node's engine, pure and deterministic: owns the ISG platform profile and the
-//! composition [`AxisEngine`] of it with the [`single_axis`] (axes and their FB calls),
-//! [`collision_avoidance`] and [`axis_groups`] (PLCopen Part 4) crates. Must not know: DDS,
-//! ROS, clocks or threads (the `axis_node` shell does).
+//! The axis node's engine, pure and deterministic: the composition [`AxisEngine`] of the
+//! [`single_axis`] (axes and their FB calls), [`axis_groups`] (PLCopen Part 4),
+//! [`collision_avoidance`] and [`isg_platform`] (the ISG profile) crates, and the raw FB layer
+//! over it. Must not know: DDS, ROS, clocks or threads (the `axis_node` shell does).
 //! Specifications: `single_axis.md`, `collision_avoidance.md`, `plcopen_platform.md`; user
 //! guide: `docs/axis_node.md`.
 //!
@@ -51,18 +51,23 @@
 //! * Error ids of the platform spec: [`platform::ids`] (1, 4, 4013, 4901…4907, 60241,
 //!   70220, 70225).
 //!
-//! Layers (issue 16): the single axis is its own crate, [`single_axis`]: axis model, §2 state
-//! machine, §3 handshake, BufferMode, parameters, homing, gearing, superposition, torque,
-//! probe, status, and the FB calls on a set of axes ([`AxisSet`]: screening, admission, FB
-//! semantics); it knows nothing of groups, CA or platforms. Where the platform profile changes
-//! a single axis, `single_axis` defines the trait ([`single_axis::AxisProfile`]) and
-//! [`platform`] implements it ([`platform::axis_rules`]). Its modules are re-exported here
-//! under their old paths ([`state`], [`handshake`], [`buffer`], [`params`], [`modulo`],
-//! [`superposition`], [`probe`], [`calc`], [`config`], ...). This crate adds [`platform`]
-//! (profile hooks, safety, start-up, raw FB layer) and the composition (`engine`: routing of
-//! each call to its layer, the cycle's order); [`group`] (Part 4 groups, crate
-//! `axis_groups`) and [`ca`] (collision avoidance, crate `collision_avoidance`) are
-//! re-exported.
+//! Layers (issue 16), each its own crate on the public API of the ones below it:
+//! * [`single_axis`]: axis model, §2 state machine, §3 handshake, BufferMode, parameters,
+//!   homing, gearing, superposition, torque, probe, status, and the FB calls on a set of axes
+//!   ([`AxisSet`]: screening, admission, FB semantics); it knows nothing of groups, CA or
+//!   platforms. Where a profile changes a single axis, it defines the trait
+//!   ([`single_axis::AxisProfile`]);
+//! * [`collision_avoidance`] ([`ca`]) and [`axis_groups`] ([`group`]) on the axes;
+//! * [`isg_platform`] (re-exported as [`platform`]): the ISG profile's handshake, error
+//!   handling, safety, start-up and versions, as hooks ([`platform::PlatformCx`]) around
+//!   the single axes and groups; it implements `AxisProfile` and the groups' `GroupProfile`;
+//! * this crate: the composition (`engine`: each call routed to its layer through the
+//!   profile's hooks, the cycle's order), the engine configuration, and the raw FB layer
+//!   ([`platform::raw`], §12.2), a PLC program that drives the composed engine.
+//!
+//! The single axis' modules are re-exported here under their old paths ([`state`],
+//! [`handshake`], [`buffer`], [`params`], [`modulo`], [`superposition`], [`probe`], [`calc`],
+//! [`config`], ...).
 //!
 //! Added later, in `single_axis::set` and routed at one place (`engine/hooks.rs`):
 //! [`phasing`] (§4.13), [`multi_master`] (MC_GearInMultiMaster, §4.12.4), [`ext_setpoint`]
@@ -95,7 +100,6 @@ pub mod snapshot;
 
 // The single axis (its own crate, issue 16): re-exported under the paths this crate and its
 // users have always used.
-use single_axis::axis;
 pub use single_axis::{
     buffer, calc, config, error_ids, extension_inputs, handshake, inputs, modulo, params, probe,
     state, status, superposition,

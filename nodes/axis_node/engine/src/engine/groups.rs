@@ -5,7 +5,6 @@
 
 use super::*;
 use crate::group::{GroupCallReply, GroupCommand, GroupConfig, GroupCx, GroupStatus};
-use crate::platform::ids::*;
 
 impl From<GroupCallReply> for AxisReply {
     fn from(r: GroupCallReply) -> Self {
@@ -37,87 +36,23 @@ impl AxisEngine {
             let g = self.groups.index_of(group)?;
             for ax in self.group_cx().admit_reset(g)? {
                 self.set.reset(ax)?;
-                if self.platform.isg() {
-                    self.platform.axes[ax].messages.clear();
-                }
+                self.platform_cx().member_reset(ax);
             }
             return Ok(self.group_cx().finish_reset(g).into());
         }
         self.group_cx().group_command(cmd).map(AxisReply::from)
     }
 
-    /// A Part 4 call through the profile's start-up and version checks (§9, R-SAF-2).
+    /// A Part 4 call through the profile's checks and the channel's order slot
+    /// (`isg_platform`: start-up, version, enabling switch, R-HS-3/R-HS-4).
     pub(crate) fn group_command_screened(
         &mut self,
         cmd: GroupCommand,
     ) -> Result<AxisReply, Rejection> {
-        let read = matches!(
-            cmd,
-            GroupCommand::GroupReadStatus { .. }
-                | GroupCommand::GroupReadError { .. }
-                | GroupCommand::GroupReadActualPosition { .. }
-                | GroupCommand::GroupReadActualVelocity { .. }
-                | GroupCommand::GroupReadConfiguration { .. }
-        );
-        if self.platform.isg() && !read {
-            if self.platform.version_mismatch {
-                return Err(Rejection::new(
-                    ERR_SIM_VERSION_MISMATCH,
-                    format!(
-                        "group '{}': HLI version/size mismatch (R-SAF-2)",
-                        cmd.group()
-                    ),
-                ));
-            }
-            if self.platform.starting() {
-                return Err(Rejection::new(
-                    ERR_PO_AX_TNA_INIT_STATE,
-                    format!("group '{}': order during start-up (§9)", cmd.group()),
-                ));
-            }
-        }
-        // R-SAF-5: in T1/T2 group motions need the enabling switch.
-        let motion = matches!(
-            cmd,
-            GroupCommand::MoveLinearAbsolute(_)
-                | GroupCommand::MoveLinearRelative(_)
-                | GroupCommand::MovePath(_)
-        );
-        if motion
-            && self.platform.safety()
-            && self.platform.mode != crate::platform::OperatingMode::Auto
-            && !self.platform.enabling_switch
-        {
-            return Err(Rejection::new(
-                ERR_SIM_TRANSITION_NOT_ALLOWED,
-                format!(
-                    "group '{}': motion in {:?} needs the enabling switch (R-SAF-5)",
-                    cmd.group(),
-                    self.platform.mode
-                ),
-            ));
-        }
-        // R-HS-3/R-HS-4 on the group's channel slot: one order per cycle, MC_GroupStop
-        // overwrites; reads and MC_GroupSetOverride use no slot.
-        let order =
-            self.platform.isg() && !read && !matches!(cmd, GroupCommand::GroupSetOverride(_));
-        let g = self.groups.index_of(cmd.group())?;
-        if order && self.groups.list[g].slot && !matches!(cmd, GroupCommand::GroupStop(_)) {
-            return Err(Rejection::new(
-                FB_ERR_MC_DID_NOT_TAKE_ORDER,
-                format!(
-                    "group '{}': the channel's order slot is already used in this cycle (R-HS-3)",
-                    cmd.group()
-                ),
-            ));
-        }
+        let (g, order) = self.platform_cx().screen_group(&cmd)?;
         let reply = self.group_command(cmd)?;
         if order {
-            self.groups.list[g].slot = true;
-            self.platform
-                .order_ids
-                .insert(reply.id, self.platform.g_order_id);
-            self.platform.g_order_id = self.platform.g_order_id.wrapping_add(1);
+            self.platform_cx().group_order_placed(g, reply.id);
         }
         Ok(reply)
     }
@@ -177,11 +112,6 @@ impl AxisEngine {
     /// Group names in configuration order.
     pub fn group_names(&self) -> impl Iterator<Item = &str> {
         self.groups.names()
-    }
-
-    /// Ends a group's motion and hands the members back (disable, ungroup).
-    pub(crate) fn group_abort_motion(&mut self, g: usize, abort_lock: bool) {
-        self.group_cx().group_abort_motion(g, abort_lock);
     }
 
     /// One cycle of every group, before the axes step. Without groups there is nothing to do

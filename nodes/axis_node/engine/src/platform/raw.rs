@@ -145,7 +145,7 @@ impl AxisEngine {
         let kind = match e.state {
             CommandState::Done => AckKind::Done,
             CommandState::Aborted => AckKind::Aborted,
-            CommandState::Error(id) => AckKind::Error(self.platform_error_id(e.id, id)),
+            CommandState::Error(id) => AckKind::Error(self.platform.error_id(&self.set, e.id, id)),
             // The admission is acknowledged as ACCEPTED by the raw layer itself; the axis
             // engine never ends an instance without an output (Ended).
             CommandState::Busy | CommandState::Active | CommandState::Ended => return true,
@@ -277,11 +277,11 @@ impl AxisEngine {
                 Ok(reply) => self.raw_placed(k, ax, state, &reply),
                 Err(r)
                     if r.error_id == FB_ERR_MC_DID_NOT_TAKE_ORDER
-                        && self.platform.cfg.max_retrials > 0 =>
+                        && self.platform.max_retrials() > 0 =>
                 {
                     let i = &mut self.raw.instances[k];
                     i.axis = ax;
-                    i.retry = Some((call.fb.clone(), self.platform.cfg.max_retrials));
+                    i.retry = Some((call.fb.clone(), self.platform.max_retrials()));
                     i.out.busy = true;
                 }
                 Err(r) => self.raw_error(k, state, r.error_id),
@@ -336,13 +336,12 @@ impl AxisEngine {
             return;
         }
         self.raw.owner_of.insert(reply.id, k);
-        let placed = self.platform.order_ids.get(&reply.id).copied().unwrap_or(0);
+        let placed = self.platform.order_id(reply.id).unwrap_or(0);
         let i = &mut self.raw.instances[k];
         if state == FbState::Active {
             // Re-trigger: the same order number, one more in flight (§4.3).
             if placed != 0 {
-                self.platform.g_order_id = self.platform.g_order_id.wrapping_sub(1);
-                self.platform.order_ids.insert(reply.id, i.order_id);
+                self.platform.keep_order_id(reply.id, i.order_id);
             }
             i.in_flight += 1;
         } else {

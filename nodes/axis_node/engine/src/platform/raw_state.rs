@@ -72,18 +72,7 @@ pub enum AckKind {
     Error(ErrorId),
 }
 
-/// A warning of the raw layer (4906 clog).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RawWarning {
-    /// Cycle of detection.
-    pub cycle: u64,
-    /// Axis name (the group's name for a group FB's channel).
-    pub axis: String,
-    /// Warning id (4906).
-    pub id: ErrorId,
-    /// Order number of the acknowledgement lying in the slot.
-    pub order_id: u32,
-}
+pub use isg_platform::RawWarning;
 
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Ack {
