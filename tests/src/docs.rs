@@ -231,13 +231,13 @@ pub fn generated(root: &Path) -> BTreeMap<&'static str, String> {
             root,
             &[
                 ks(
-                    "nodes/axis_node/engine/src/platform/mod.rs",
+                    "nodes/axis_node/isg_platform/src/config.rs",
                     "PlatformConfig",
                     "platform.",
                     yaml(&PlatformConfig::default()),
                 ),
                 ks(
-                    "nodes/axis_node/engine/src/platform/mod.rs",
+                    "nodes/axis_node/isg_platform/src/config.rs",
                     "AxisPlatformConfig",
                     "platform.axes.<axis>.",
                     yaml(&AxisPlatformConfig::default()),

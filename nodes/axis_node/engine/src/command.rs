@@ -126,7 +126,7 @@ pub enum AxisCommand {
     /// A PLCopen Part 4 axis-group FB call (plcopen_platform.md §3.2, §5).
     Group(crate::group::GroupCommand),
     /// A platform service: safety, simulation, session (plcopen_platform.md §8–§12).
-    Platform(crate::platform::PlatformCommand),
+    Platform(isg_platform::PlatformCommand),
     // ---- phasing, multi-master gearing, external setpoint generator, §4.7 extensions
     // (modules single_axis::set::{phasing, multi_master, ext_setpoint, extensions})
     /// MC_PhasingAbsolute (§4.13.1).
@@ -204,7 +204,7 @@ pub enum ReplyValue {
     /// Group read FBs (and [`AxisCommand::ReadFbOutputs`] of a group instance).
     Group(crate::group::GroupReply),
     /// Platform reads.
-    Platform(crate::platform::PlatformReply),
+    Platform(isg_platform::PlatformReply),
     /// Structured values of the §4.7 / §4.4.3 / §4.4.6 read FBs.
     Extension(Box<ExtensionValue>),
     /// Values of the CA read/enable blocks ([`crate::ca::CaValue`]).

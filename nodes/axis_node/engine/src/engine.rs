@@ -22,8 +22,8 @@ pub struct AxisEngine {
     pub(crate) groups: crate::group::Groups,
     /// Platform profile, safety functions, start-up (plcopen_platform.md §6–§10).
     pub(crate) platform: crate::platform::Platform,
-    /// Raw FB layer state (plcopen_platform.md §12.2).
-    pub(crate) raw: crate::platform::raw_state::Raw,
+    /// The raw FB layer (plcopen_platform.md §12.2).
+    pub(crate) raw: isg_platform::raw::RawLayer<AxisCommand>,
     tick: u64,
     /// Collision-avoidance groups (collision_avoidance.md).
     ca: crate::ca::CaGroups,
@@ -388,7 +388,10 @@ impl Engine for AxisEngine {
         let from = events.len();
         events.append(&mut self.set.fbs.events);
         self.platform_cx().map_events(&mut events[from..]);
-        self.raw_route(events, from);
+        // Events of orders the raw FB layer placed become its acknowledgements.
+        let (platform, set) = (&self.platform, &self.set);
+        self.raw
+            .route(events, from, &|id, e| platform.error_id(set, id, e));
     }
 
     fn snapshot(&self) -> AxisSnapshot {

@@ -14,7 +14,7 @@ pub struct AxisSnapshot {
     /// One entry per Part 4 axis group (plcopen_platform.md §5).
     pub groups: Vec<crate::group::GroupStatus>,
     /// Platform profile, start-up and safety state (plcopen_platform.md §8–§10).
-    pub platform: crate::platform::PlatformStatus,
+    pub platform: isg_platform::PlatformStatus,
     /// Collision-avoidance groups (collision_avoidance.md §9.5).
     #[serde(default)]
     pub ca_groups: Vec<crate::ca::CaGroupStatus>,

@@ -2,9 +2,9 @@
 //! (crate `single_axis`) and the Part 4 groups (crate `axis_groups`). Owns: the profile
 //! choice (`tc2_mc2`, default and single_axis.md normative, or `isg_mcp`), the platform
 //! configuration, safety functions, start-up, versions, MC messages, order numbers and the
-//! hooks around each call and cycle ([`PlatformCx`]). Must not know: the composed command
-//! type, collision avoidance, the raw FB layer's instances (crate `axis_engine`, which calls
-//! the hooks), or the ROS shell. The profile switches on, in small hooks around the
+//! hooks around each call and cycle ([`PlatformCx`]), and the raw FB layer ([`raw`]) that
+//! drives an engine like a PLC program. Must not know: the composed command type (the raw
+//! layer is generic over it, [`raw::RawHost`]), collision avoidance, or the ROS shell. The profile switches on, in small hooks around the
 //! unchanged Tc2_MC2 axes:
 //!
 //! * §6 handshake: Done/CommandAborted/Error latched until Execute falls (R-HS-2); one order
@@ -17,10 +17,9 @@
 //! * §8 safety R-SAF-0 … R-SAF-6 (in `tc2_mc2` only with `safety_monitors: true`).
 //! * §9 start-up (INIT_STATE for `nr_cycles_chk_mc_runs` cycles, orders → 4013) and §10
 //!   versioning (HLI congruence, mismatch → 4904 at every FB).
-//! * §12.2 raw FB layer (`axis_engine::platform::raw`, a PLC program over the composed
-//!   engine): FB_IDLE/ACTIVE/ERROR, re-trigger with the same order number, the per-axis
-//!   (per-group for Part 4 FBs) acknowledgement queue with clogging (4906); its order
-//!   numbers and warnings are kept here.
+//! * §12.2 raw FB layer ([`raw`]): FB_IDLE/ACTIVE/ERROR, re-trigger with the same order
+//!   number, the per-axis (per-group for Part 4 FBs) acknowledgement queue with clogging
+//!   (4906).
 //!
 //! * §11 R-SYS-1: enabled software limits of linear axes are travel limits, monitored every
 //!   cycle: crossing one → MC error 91001 (reaction class 2: braking with `a_limit`);
@@ -34,6 +33,7 @@
 pub mod axis_rules;
 mod config;
 mod hooks;
+pub mod raw;
 mod services;
 mod state;
 mod status;

@@ -5,7 +5,7 @@
 use super::*;
 use crate::command::*;
 use crate::engine::AxisEngine;
-use motion_core::Rejection;
+use motion_core::{CmdId, CommandEvent, ErrorId, Rejection, Tick};
 
 impl AxisEngine {
     /// The platform with what it works on, for one call or cycle.
@@ -30,7 +30,94 @@ impl AxisEngine {
     /// The snapshot's platform part (with the raw layer's clog warnings).
     pub(crate) fn platform_status(&self) -> PlatformStatus {
         self.platform
-            .status(&self.set, &self.groups, &self.raw.warnings)
+            .status(&self.set, &self.groups, self.raw.warnings())
+    }
+
+    /// One PLC cycle of the raw FB layer (§12.2): the calls in order, then one MC cycle.
+    /// Events of commands not owned by raw instances are appended to `events`.
+    pub fn fb_cycle(
+        &mut self,
+        tick: Tick,
+        calls: &[raw::FbCall],
+        events: &mut Vec<CommandEvent>,
+    ) -> Vec<raw::FbOut> {
+        // The layer drives this engine; it is lent out for the cycle (the engine's own step
+        // then finds no raw-owned command: the layer routes the cycle's events itself).
+        let mut layer = std::mem::take(&mut self.raw);
+        let outs = layer.fb_cycle(self, tick, calls, events);
+        self.raw = layer;
+        outs
+    }
+
+    /// Warnings of the raw layer so far (4906).
+    pub fn raw_warnings(&self) -> &[raw::RawWarning] {
+        self.raw.warnings()
+    }
+}
+
+impl isg_platform::raw::RawHost for AxisEngine {
+    type Call = AxisCommand;
+
+    fn place(&mut self, call: AxisCommand) -> Result<(CmdId, bool), Rejection> {
+        self.dispatch(call).map(|r| (r.id, r.tracked))
+    }
+
+    fn release(&mut self, id: CmdId) {
+        let _ = self.dispatch(AxisCommand::SetExecute { id, execute: false });
+    }
+
+    fn mc_cycle(&mut self, tick: Tick, events: &mut Vec<CommandEvent>) {
+        motion_core::Engine::step(self, tick, events);
+    }
+
+    fn take_events(&mut self, events: &mut Vec<CommandEvent>) {
+        events.append(&mut self.set.fbs.events);
+    }
+
+    fn channel(&self, call: &AxisCommand) -> Option<usize> {
+        match call {
+            AxisCommand::Group(g) => self
+                .groups
+                .index
+                .get(g.group())
+                .map(|&i| self.set.axes.len() + i),
+            _ => call.axis().and_then(|n| self.set.index.get(n).copied()),
+        }
+    }
+
+    fn channels(&self) -> usize {
+        self.set.axes.len() + self.groups.list.len()
+    }
+
+    fn channel_name(&self, channel: usize) -> String {
+        match self.set.axes.get(channel) {
+            Some(a) => a.name.clone(),
+            None => self.groups.list[channel - self.set.axes.len()].name.clone(),
+        }
+    }
+
+    fn cyclic_inputs(call: &AxisCommand) -> bool {
+        matches!(
+            call,
+            AxisCommand::Power(_)
+                | AxisCommand::SetOverride(_)
+                | AxisCommand::Group(crate::group::GroupCommand::GroupSetOverride(_))
+        )
+    }
+
+    fn in_velocity(&self, id: CmdId) -> bool {
+        self.set
+            .fbs
+            .outputs_with(id, false)
+            .is_some_and(|o| o.in_velocity)
+    }
+
+    fn shown_error(&self, id: CmdId, e: ErrorId) -> ErrorId {
+        self.platform.error_id(&self.set, id, e)
+    }
+
+    fn platform(&mut self) -> &mut Platform {
+        &mut self.platform
     }
 }
 

@@ -1,12 +1,18 @@
 //! The platform profile in the axis engine: crate `isg_platform` (re-exported here: profile,
-//! configuration, safety, start-up, services, the hooks [`PlatformCx`]), the engine's
-//! configuration [`EngineConfig`], the engine's glue to the hooks (`hooks`) and the raw FB
-//! layer ([`raw`], plcopen_platform.md §12.2), a PLC program over the composed engine.
+//! configuration, safety, start-up, services, the hooks [`PlatformCx`], the raw FB layer),
+//! the engine's configuration [`EngineConfig`] and the engine's glue to the hooks (`hooks`:
+//! [`PlatformCx`] for each call and cycle, [`isg_platform::raw::RawHost`] for the raw layer).
 
 mod hooks;
 pub use isg_platform::*;
-pub mod raw;
-pub(crate) mod raw_state;
+
+/// The raw FB layer (plcopen_platform.md §12.2) over this engine's commands.
+pub mod raw {
+    pub use isg_platform::raw::{AckKind, FbOut, FbState};
+    pub use isg_platform::RawWarning;
+    /// One FB call of a PLC cycle on the axis engine.
+    pub type FbCall = isg_platform::raw::FbCall<crate::command::AxisCommand>;
+}
 
 use serde::Deserialize;
 

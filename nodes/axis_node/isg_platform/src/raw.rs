@@ -1,6 +1,6 @@
 //! Raw FB layer (plcopen_platform.md §12.2, §4, §6.3): exact PLC emulation for tests.
 //!
-//! [`AxisEngine::fb_cycle`] runs one PLC cycle: the listed FB instances are called in the
+//! [`RawLayer::fb_cycle`] runs one PLC cycle: the listed FB instances are called in the
 //! given order with their inputs (instances not listed are not called), then the MC runs one
 //! cycle. Each instance has the FB_IDLE / FB_ACTIVE / FB_ERROR states of R-FB-1, keeps its
 //! order number (§4.3; a re-trigger while ACTIVE reuses it, R-FB-3) and takes only the
@@ -9,47 +9,80 @@
 //! more than 2 cycles at the head, warning 4906 is recorded. Done/CommandAborted/Error are
 //! latched until Execute falls (R-HS-2).
 //!
-//! Part 4 group FBs (`AxisCommand::Group`) work the same way on their group's channel: one
+//! The layer drives an engine through [`RawHost`] (implemented by the axis engine for its
+//! command type): it places orders, releases instances, runs MC cycles and names the
+//! channels. Part 4 group FBs work the same way on their group's channel: one
 //! acknowledgement queue per group (after the axes' queues), the channel's order slot of
 //! R-HS-3/R-HS-4, order numbers, clogging with the group's name in the warning.
 
-use super::ids::*;
-use crate::command::{AxisCommand, AxisReply};
-use crate::engine::AxisEngine;
-use motion_core::{CommandEvent, CommandState, Engine, ErrorId, Tick};
+mod state;
+
+use crate::ids::*;
+use crate::{Platform, RawWarning};
+use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, Rejection, Tick};
+use state::{Ack, Inst};
 use std::collections::VecDeque;
 
-use super::raw_state::{Ack, Inst};
-pub use super::raw_state::{AckKind, FbCall, FbOut, FbState, RawWarning};
+pub use state::{AckKind, FbCall, FbOut, FbState, RawLayer};
 
-impl AxisEngine {
+/// The engine a raw FB layer drives (plcopen_platform.md §12.2).
+pub trait RawHost {
+    /// The engine's FB call (an Execute edge or the current inputs of an Enable-type FB).
+    type Call: Clone + PartialEq;
+    /// Places a call: the instance id and whether it is tracked (an order with a lifetime);
+    /// a refusal is the FB-level error.
+    fn place(&mut self, call: Self::Call) -> Result<(CmdId, bool), Rejection>;
+    /// Execute of instance `id` fell (MC_Stop / MC_GroupStop release their axis or group).
+    fn release(&mut self, id: CmdId);
+    /// One MC cycle; its events go to `events`.
+    fn mc_cycle(&mut self, tick: Tick, events: &mut Vec<CommandEvent>);
+    /// The handshake events the calls of this PLC cycle produced (aborts of older orders).
+    fn take_events(&mut self, events: &mut Vec<CommandEvent>);
+    /// The acknowledgement channel of a call: its axis, or its group's channel after the axes.
+    fn channel(&self, call: &Self::Call) -> Option<usize>;
+    /// The number of channels (axes + groups).
+    fn channels(&self) -> usize;
+    /// The axis or group name of a channel.
+    fn channel_name(&self, channel: usize) -> String;
+    /// Enable-type FBs whose inputs are read every call while Enable is TRUE (§6.2).
+    fn cyclic_inputs(call: &Self::Call) -> bool;
+    /// InVelocity of instance `id`.
+    fn in_velocity(&self, id: CmdId) -> bool;
+    /// The ErrorID instance `id` shows for `e` under the profile.
+    fn shown_error(&self, id: CmdId, e: ErrorId) -> ErrorId;
+    /// The platform (order numbers, `MAX_RETRIALS`).
+    fn platform(&mut self) -> &mut Platform;
+}
+
+impl<C: Clone + PartialEq> RawLayer<C> {
     /// One PLC cycle of the raw FB layer (§12.2): calls in order, then one MC cycle. Events of
     /// commands not owned by raw instances are appended to `events`.
-    pub fn fb_cycle(
+    pub fn fb_cycle<H: RawHost<Call = C>>(
         &mut self,
+        host: &mut H,
         tick: Tick,
-        calls: &[FbCall],
+        calls: &[FbCall<C>],
         events: &mut Vec<CommandEvent>,
     ) -> Vec<FbOut> {
         // Acknowledgement queues: the axes, then the groups' channels.
-        let n_slots = self.set.axes.len() + self.groups.list.len();
-        if self.raw.acks.len() != n_slots {
-            self.raw.acks = vec![VecDeque::new(); n_slots];
-            self.raw.clog_warned = vec![None; n_slots];
+        let n_slots = host.channels();
+        if self.acks.len() != n_slots {
+            self.acks = vec![VecDeque::new(); n_slots];
+            self.clog_warned = vec![None; n_slots];
         }
         let mut outs = Vec::with_capacity(calls.len());
         for call in calls {
-            outs.push(self.raw_call(call));
+            outs.push(self.call(host, call));
         }
         // (3) the MC consumes the orders: aborts caused by them first, then ACCEPTED, then
         // what the cycle itself produces (`step` routes raw-owned events to their queues).
         let from = events.len();
-        events.append(&mut self.set.fbs.events);
-        let mut accepted = std::mem::take(&mut self.raw.accepted);
+        host.take_events(events);
+        let mut accepted = std::mem::take(&mut self.accepted);
         // An order overwritten in its own cycle (MC_Stop / MC_GroupStop, R-HS-4) is
         // acknowledged ACCEPTED before its ABORTED.
         for e in &events[from..] {
-            let owner = self.raw.owner_of.get(&e.id).copied();
+            let owner = self.owner_of.get(&e.id).copied();
             if let Some(p) = owner
                 .filter(|_| e.state.is_final())
                 .and_then(|i| accepted.iter().position(|a| a.0 == i))
@@ -58,77 +91,82 @@ impl AxisEngine {
                 self.raw_accepted(a);
             }
         }
-        self.raw_route(events, from);
+        self.route(events, from, &|id, e| host.shown_error(id, e));
         for a in accepted {
             self.raw_accepted(a);
         }
-        Engine::step(self, tick, events);
+        // The MC cycle; its events of raw-owned commands become acknowledgements.
+        let from = events.len();
+        host.mc_cycle(tick, events);
+        self.route(events, from, &|id, e| host.shown_error(id, e));
         // InVelocity acknowledgements.
-        for k in 0..self.raw.instances.len() {
-            let i = &self.raw.instances[k];
+        for k in 0..self.instances.len() {
+            let i = &self.instances[k];
             if i.state != FbState::Active || i.in_velocity_acked {
                 continue;
             }
-            let iv = i
-                .engine
-                .last()
-                .and_then(|&id| self.set.fbs.outputs_with(id, false))
-                .is_some_and(|o| o.in_velocity);
+            let iv = i.engine.last().is_some_and(|&id| host.in_velocity(id));
             if iv {
                 let (axis, order_id) = (i.axis, i.order_id);
-                self.raw.instances[k].in_velocity_acked = true;
-                self.raw.acks[axis].push_back(Ack {
+                self.instances[k].in_velocity_acked = true;
+                self.acks[axis].push_back(Ack {
                     owner: k,
                     kind: AckKind::InVelocity,
-                    posted: self.raw.cycle,
+                    posted: self.cycle,
                     order_id,
                 });
             }
         }
         // Clog watchdog: the same acknowledgement at the head for more than 2 cycles.
         for ax in 0..n_slots {
-            if let Some(h) = self.raw.acks[ax].front().copied() {
+            if let Some(h) = self.acks[ax].front().copied() {
                 let key = Some((h.owner, h.order_id));
-                if self.raw.cycle > h.posted + 2 && self.raw.clog_warned[ax] != key {
-                    self.raw.clog_warned[ax] = key;
-                    self.raw.warnings.push(RawWarning {
-                        cycle: self.raw.cycle,
-                        axis: self.raw_slot_name(ax),
+                if self.cycle > h.posted + 2 && self.clog_warned[ax] != key {
+                    self.clog_warned[ax] = key;
+                    self.warnings.push(RawWarning {
+                        cycle: self.cycle,
+                        axis: host.channel_name(ax),
                         id: ERR_SIM_HLI_ACK_CLOG,
                         order_id: h.order_id,
                     });
                 }
             }
         }
-        self.raw.cycle += 1;
+        self.cycle += 1;
         outs
     }
 
     /// Posts the ACCEPTED acknowledgement of an order placed in this cycle.
     fn raw_accepted(&mut self, (inst, axis, order_id): (usize, usize, u32)) {
-        self.raw.acks[axis].push_back(Ack {
+        self.acks[axis].push_back(Ack {
             owner: inst,
             kind: AckKind::Accepted,
-            posted: self.raw.cycle,
+            posted: self.cycle,
             order_id,
         });
     }
 
     /// Warnings of the raw layer so far (4906).
-    pub fn raw_warnings(&self) -> &[RawWarning] {
-        &self.raw.warnings
+    pub fn warnings(&self) -> &[RawWarning] {
+        &self.warnings
     }
 
-    /// After a step (with or without [`AxisEngine::fb_cycle`], e.g. cycles a free-running
-    /// node runs between `~/fb/cycle` requests): the events of raw-owned commands from
-    /// `events[from..]` become acknowledgements in their queues. No allocation.
-    pub(crate) fn raw_route(&mut self, events: &mut Vec<CommandEvent>, from: usize) {
-        if self.raw.owner_of.is_empty() {
+    /// After an MC cycle (in [`Self::fb_cycle`] or a free-running one between `~/fb/cycle`
+    /// requests): the events of raw-owned commands from `events[from..]` become
+    /// acknowledgements in their queues; `shown` gives the ErrorID the profile shows. No
+    /// allocation.
+    pub fn route(
+        &mut self,
+        events: &mut Vec<CommandEvent>,
+        from: usize,
+        shown: &dyn Fn(CmdId, ErrorId) -> ErrorId,
+    ) {
+        if self.owner_of.is_empty() {
             return;
         }
         let mut k = from;
         while k < events.len() {
-            if self.raw_ack(events[k]) {
+            if self.raw_ack(events[k], shown) {
                 events.remove(k);
             } else {
                 k += 1;
@@ -138,55 +176,52 @@ impl AxisEngine {
 
     /// Queues the acknowledgement of a raw-owned command's final event; false if the command
     /// is not raw-owned (the event stays with the caller).
-    fn raw_ack(&mut self, e: CommandEvent) -> bool {
-        let Some(&k) = self.raw.owner_of.get(&e.id) else {
+    fn raw_ack(&mut self, e: CommandEvent, shown: &dyn Fn(CmdId, ErrorId) -> ErrorId) -> bool {
+        let Some(&k) = self.owner_of.get(&e.id) else {
             return false;
         };
         let kind = match e.state {
             CommandState::Done => AckKind::Done,
             CommandState::Aborted => AckKind::Aborted,
-            CommandState::Error(id) => AckKind::Error(self.platform.error_id(&self.set, e.id, id)),
+            CommandState::Error(id) => AckKind::Error(shown(e.id, id)),
             // The admission is acknowledged as ACCEPTED by the raw layer itself; the axis
             // engine never ends an instance without an output (Ended).
             CommandState::Busy | CommandState::Active | CommandState::Ended => return true,
         };
-        let i = &self.raw.instances[k];
+        let i = &self.instances[k];
         let (axis, order_id) = (i.axis, i.order_id);
-        self.raw.acks[axis].push_back(Ack {
+        self.acks[axis].push_back(Ack {
             owner: k,
             kind,
-            posted: self.raw.cycle,
+            posted: self.cycle,
             order_id,
         });
         true
     }
 
-    fn raw_call(&mut self, call: &FbCall) -> FbOut {
-        let k = match self.raw.by_name.get(&call.instance) {
+    fn call<H: RawHost<Call = C>>(&mut self, host: &mut H, call: &FbCall<C>) -> FbOut {
+        let k = match self.by_name.get(&call.instance) {
             Some(&k) => k,
             None => {
-                let k = self.raw.instances.len();
-                self.raw.instances.push(Inst {
-                    name: call.instance.clone(),
-                    ..Inst::default()
-                });
-                self.raw.by_name.insert(call.instance.clone(), k);
+                let k = self.instances.len();
+                self.instances.push(Inst::new(call.instance.clone()));
+                self.by_name.insert(call.instance.clone(), k);
                 k
             }
         };
-        let axis = self.raw_slot(&call.fb);
+        let axis = host.channel(&call.fb);
         // Consume this instance's acknowledgements at the head of its axis' queue.
-        let qa = self.raw.instances[k].axis;
-        if self.raw.instances[k].state == FbState::Active {
-            while let Some(h) = self.raw.acks[qa].front().copied() {
+        let qa = self.instances[k].axis;
+        if self.instances[k].state == FbState::Active {
+            while let Some(h) = self.acks[qa].front().copied() {
                 if h.owner != k {
                     break;
                 }
-                self.raw.acks[qa].pop_front();
-                if self.raw.clog_warned[qa].is_some_and(|w| w.0 == k) {
-                    self.raw.clog_warned[qa] = None;
+                self.acks[qa].pop_front();
+                if self.clog_warned[qa].is_some_and(|w| w.0 == k) {
+                    self.clog_warned[qa] = None;
                 }
-                let i = &mut self.raw.instances[k];
+                let i = &mut self.instances[k];
                 match h.kind {
                     AckKind::Accepted => {
                         i.out.busy = true;
@@ -222,7 +257,7 @@ impl AxisEngine {
                 }
             }
         }
-        let i = &mut self.raw.instances[k];
+        let i = &mut self.instances[k];
         let rising = call.execute && !i.prev_execute;
         let falling = !call.execute && i.prev_execute;
         i.prev_execute = call.execute;
@@ -234,21 +269,21 @@ impl AxisEngine {
             i.out.error_id = ErrorId::NONE;
             // The MC sees the level too (MC_Stop / MC_GroupStop release the axis or group).
             if let Some(id) = i.engine.last().copied() {
-                let _ = self.dispatch(AxisCommand::SetExecute { id, execute: false });
+                host.release(id);
             }
         }
-        let i = &mut self.raw.instances[k];
+        let i = &mut self.instances[k];
         // FB_RETRY: a pending order is tried again in this call (R-HS-3 with MAX_RETRIALS).
         if !rising {
             if let Some((fb, left)) = i.retry.take() {
                 let state = i.state;
-                match self.dispatch(fb.clone()) {
+                match host.place(fb.clone()) {
                     Ok(reply) => {
-                        let ax = self.raw.instances[k].axis;
-                        self.raw_placed(k, ax, state, &reply);
+                        let ax = self.instances[k].axis;
+                        self.raw_placed(host, k, ax, state, reply);
                     }
                     Err(r) if r.error_id == FB_ERR_MC_DID_NOT_TAKE_ORDER && left > 1 => {
-                        self.raw.instances[k].retry = Some((fb, left - 1));
+                        self.instances[k].retry = Some((fb, left - 1));
                     }
                     Err(r) => self.raw_error(k, state, r.error_id),
                 }
@@ -258,9 +293,9 @@ impl AxisEngine {
         // §6.2: an Enable-type FB with cyclic inputs (MC_Power, MC_SetOverride,
         // MC_GroupSetOverride) applies changed inputs while Enable is held, every call.
         let changed =
-            call.execute && cyclic_inputs(&call.fb) && i.last_inputs.as_ref() != Some(&call.fb);
+            call.execute && H::cyclic_inputs(&call.fb) && i.last_inputs.as_ref() != Some(&call.fb);
         if rising || changed {
-            i.last_inputs = cyclic_inputs(&call.fb).then(|| call.fb.clone());
+            i.last_inputs = H::cyclic_inputs(&call.fb).then(|| call.fb.clone());
             let state = i.state;
             let Some(ax) = axis else {
                 i.state = FbState::Error;
@@ -273,15 +308,15 @@ impl AxisEngine {
                 i.out.error_id = ERR_SIM_AXIS_REF_CHANGED;
                 return self.raw_out(k);
             }
-            match self.dispatch(call.fb.clone()) {
-                Ok(reply) => self.raw_placed(k, ax, state, &reply),
+            match host.place(call.fb.clone()) {
+                Ok(reply) => self.raw_placed(host, k, ax, state, reply),
                 Err(r)
                     if r.error_id == FB_ERR_MC_DID_NOT_TAKE_ORDER
-                        && self.platform.max_retrials() > 0 =>
+                        && host.platform().max_retrials() > 0 =>
                 {
-                    let i = &mut self.raw.instances[k];
+                    let i = &mut self.instances[k];
                     i.axis = ax;
-                    i.retry = Some((call.fb.clone(), self.platform.max_retrials()));
+                    i.retry = Some((call.fb.clone(), host.platform().max_retrials()));
                     i.out.busy = true;
                 }
                 Err(r) => self.raw_error(k, state, r.error_id),
@@ -291,28 +326,8 @@ impl AxisEngine {
     }
 
     /// The order attempt failed: FB-level error (nothing sent, §4.2).
-    /// The acknowledgement queue of an FB call: its axis, or its group's channel.
-    fn raw_slot(&self, fb: &AxisCommand) -> Option<usize> {
-        match fb {
-            AxisCommand::Group(g) => self
-                .groups
-                .index
-                .get(g.group())
-                .map(|&i| self.set.axes.len() + i),
-            _ => fb.axis().and_then(|n| self.set.index.get(n).copied()),
-        }
-    }
-
-    /// The axis or group name of an acknowledgement queue.
-    fn raw_slot_name(&self, slot: usize) -> String {
-        match self.set.axes.get(slot) {
-            Some(a) => a.name.clone(),
-            None => self.groups.list[slot - self.set.axes.len()].name.clone(),
-        }
-    }
-
     fn raw_error(&mut self, k: usize, state: FbState, id: ErrorId) {
-        let i = &mut self.raw.instances[k];
+        let i = &mut self.instances[k];
         i.out.error = true;
         i.out.error_id = id;
         i.out.done = false;
@@ -324,9 +339,16 @@ impl AxisEngine {
         }
     }
 
-    fn raw_placed(&mut self, k: usize, ax: usize, state: FbState, reply: &AxisReply) {
-        let i = &mut self.raw.instances[k];
-        if !reply.tracked {
+    fn raw_placed<H: RawHost<Call = C>>(
+        &mut self,
+        host: &mut H,
+        k: usize,
+        ax: usize,
+        state: FbState,
+        (id, tracked): (CmdId, bool),
+    ) {
+        let i = &mut self.instances[k];
+        if !tracked {
             // Read FBs and MC_Power: no order, done at once.
             i.out = FbOut {
                 done: true,
@@ -335,13 +357,13 @@ impl AxisEngine {
             i.state = FbState::Idle;
             return;
         }
-        self.raw.owner_of.insert(reply.id, k);
-        let placed = self.platform.order_id(reply.id).unwrap_or(0);
-        let i = &mut self.raw.instances[k];
+        self.owner_of.insert(id, k);
+        let placed = host.platform().order_id(id).unwrap_or(0);
+        let i = &mut self.instances[k];
         if state == FbState::Active {
             // Re-trigger: the same order number, one more in flight (§4.3).
             if placed != 0 {
-                self.platform.keep_order_id(reply.id, i.order_id);
+                host.platform().keep_order_id(id, i.order_id);
             }
             i.in_flight += 1;
         } else {
@@ -361,16 +383,16 @@ impl AxisEngine {
         i.axis = ax;
         i.state = FbState::Active;
         i.out.busy = true;
-        i.engine.push(reply.id);
+        i.engine.push(id);
         if i.engine.len() > 8 {
             i.engine.remove(0);
         }
         let order_id = i.order_id;
-        self.raw.accepted.push((k, ax, order_id));
+        self.accepted.push((k, ax, order_id));
     }
 
     fn raw_out(&self, k: usize) -> FbOut {
-        let i = &self.raw.instances[k];
+        let i = &self.instances[k];
         FbOut {
             instance: i.name.clone(),
             order_id: i.order_id,
@@ -379,14 +401,4 @@ impl AxisEngine {
             ..i.out.clone()
         }
     }
-}
-
-/// Enable-type FBs whose inputs are read every call while Enable is TRUE (§6.2).
-fn cyclic_inputs(fb: &AxisCommand) -> bool {
-    matches!(
-        fb,
-        AxisCommand::Power(_)
-            | AxisCommand::SetOverride(_)
-            | AxisCommand::Group(crate::group::GroupCommand::GroupSetOverride(_))
-    )
 }

@@ -1,21 +1,20 @@
 //! State of the raw FB layer (plcopen_platform.md §12.2): the FB instances a PLC program
-//! calls, their outputs and the per-axis acknowledgement queues. The layer's behaviour is in
-//! [`super::raw`]; the engine only holds this state.
+//! calls, their outputs and the acknowledgement queues. The behaviour is in [`super`].
 
-use crate::command::AxisCommand;
+use crate::RawWarning;
 use motion_core::{CmdId, ErrorId};
 use serde::{Deserialize, Serialize};
 use std::collections::{HashMap, VecDeque};
 
 /// One FB call of a PLC cycle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FbCall {
+pub struct FbCall<C> {
     /// Instance name (the PLC's FB instance variable).
     pub instance: String,
     /// Execute input.
     pub execute: bool,
     /// The FB with its other inputs (including the axis = AXIS_REF).
-    pub fb: AxisCommand,
+    pub fb: C,
 }
 
 /// FB-internal state (R-FB-1).
@@ -72,8 +71,6 @@ pub enum AckKind {
     Error(ErrorId),
 }
 
-pub use isg_platform::RawWarning;
-
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Ack {
     pub(super) owner: usize,
@@ -82,8 +79,8 @@ pub(super) struct Ack {
     pub(super) order_id: u32,
 }
 
-#[derive(Clone, Debug, Default)]
-pub(super) struct Inst {
+#[derive(Clone, Debug)]
+pub(super) struct Inst<C> {
     pub(super) name: String,
     pub(super) axis: usize,
     pub(super) state: FbState,
@@ -95,20 +92,54 @@ pub(super) struct Inst {
     pub(super) in_velocity_acked: bool,
     /// FB_RETRY (§4.1): the order that found the slot occupied and the retries left
     /// (`MAX_RETRIALS`).
-    pub(super) retry: Option<(AxisCommand, u32)>,
+    pub(super) retry: Option<(C, u32)>,
     /// The inputs last sent, for Enable-type FBs with cyclic inputs (§6.2).
-    pub(super) last_inputs: Option<AxisCommand>,
+    pub(super) last_inputs: Option<C>,
 }
 
-/// Raw-layer state (instances and acknowledgement queues).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Raw {
-    pub(super) instances: Vec<Inst>,
+/// The raw FB layer of one engine: its FB instances, the acknowledgement queues (one per
+/// axis, then one per group channel) and the warnings so far.
+#[derive(Clone, Debug)]
+pub struct RawLayer<C> {
+    pub(super) instances: Vec<Inst<C>>,
     pub(super) by_name: HashMap<String, usize>,
     pub(super) owner_of: HashMap<CmdId, usize>,
     pub(super) acks: Vec<VecDeque<Ack>>,
     pub(super) clog_warned: Vec<Option<(usize, u32)>>,
     pub(super) accepted: Vec<(usize, usize, u32)>,
     pub(super) cycle: u64,
-    pub(crate) warnings: Vec<RawWarning>,
+    pub(super) warnings: Vec<RawWarning>,
+}
+
+impl<C> Inst<C> {
+    pub(super) fn new(name: String) -> Self {
+        Inst {
+            name,
+            axis: 0,
+            state: FbState::Idle,
+            prev_execute: false,
+            order_id: 0,
+            in_flight: 0,
+            engine: Vec::new(),
+            out: FbOut::default(),
+            in_velocity_acked: false,
+            retry: None,
+            last_inputs: None,
+        }
+    }
+}
+
+impl<C> Default for RawLayer<C> {
+    fn default() -> Self {
+        RawLayer {
+            instances: Vec::new(),
+            by_name: HashMap::new(),
+            owner_of: HashMap::new(),
+            acks: Vec::new(),
+            clog_warned: Vec::new(),
+            accepted: Vec::new(),
+            cycle: 0,
+            warnings: Vec::new(),
+        }
+    }
 }
