@@ -2,6 +2,8 @@
 //! MCAP file of the ROS 2 profile that the PyPI readers (`mcap` + `mcap-ros2-support`) decode
 //! message by message, every state topic of every node on its own channel with its ROS type.
 //! A file that cannot be created is a configuration error (exit 2) before any node starts.
+//! `--cycles N` runs lockstep nodes N cycles without any client and records every cycle
+//! (issue 14 item 4).
 //!
 //! Needs a python3 with `mcap_ros2` (`$MOTION_MSGS_PYTHON`, else `python3`); skipped with a
 //! message when there is none, unless `MOTION_MSGS_REQUIRE_MCAP` is set (the test command).
@@ -45,6 +47,11 @@ fn python() -> Option<String> {
 /// What the PyPI readers make of the recording (`PY`'s lines); None when there is no python
 /// with them (skipped, unless `MOTION_MSGS_REQUIRE_MCAP` is set).
 fn read_back(file: &std::path::Path) -> Option<String> {
+    read_back_with(file, PY)
+}
+
+/// [`read_back`] with another script (`sys.argv[1]` is the file).
+fn read_back_with(file: &std::path::Path, script: &str) -> Option<String> {
     let Some(py) = python() else {
         let msg = "no python3 with the mcap-ros2-support package (set MOTION_MSGS_PYTHON)";
         assert!(std::env::var("MOTION_MSGS_REQUIRE_MCAP").is_err(), "{msg}");
@@ -52,7 +59,7 @@ fn read_back(file: &std::path::Path) -> Option<String> {
         return None;
     };
     let read = Command::new(&py)
-        .args(["-c", PY])
+        .args(["-c", script])
         .arg(file)
         .output()
         .expect("run python");
@@ -217,4 +224,95 @@ fn the_launch_config_key_records_events_and_command_status() {
     ] {
         assert!(got.contains(topic), "{topic}missing:\n{got}");
     }
+}
+
+/// The stamps of `~/axis_states` in the recording: count, first, smallest and largest step
+/// [ns].
+const PY_STAMPS: &str = r#"
+import sys
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+t = []
+with open(sys.argv[1], 'rb') as f:
+    r = make_reader(f, decoder_factories=[DecoderFactory()])
+    for schema, channel, message, m in r.iter_decoded_messages(topics=['/axis_node/axis_states'], log_time_order=True):
+        t.append(m.stamp.sec * 1000000000 + m.stamp.nanosec)
+        assert len(m.axes) == 10
+d = [b - a for a, b in zip(t, t[1:])]
+print(len(t), t[0], min(d), max(d))
+"#;
+
+/// Issue 14 item 4: a lockstep node runs `--cycles N` with no client stepping it over DDS, and
+/// every cycle's state is recorded, whatever `state_rate` says: the states of cycles 0 … N,
+/// 1 ms apart in simulated time from 0, none lost when the run ends.
+#[test]
+fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
+    require_netns();
+    let dir = std::env::temp_dir().join(format!("motion_recording_cycles_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("cycles.mcap");
+    let config = dir.join("ten_axes.yaml");
+    let axes: Vec<String> = (0..10).map(|i| format!("a{i}: {{}}")).collect();
+    std::fs::write(
+        &config,
+        format!(
+            "nodes:\n  - kind: axis_node\n    lockstep: true\n    state_rate: 10\n    axes: {{{}}}\n",
+            axes.join(", ")
+        ),
+    )
+    .unwrap();
+    let n = 3000;
+    let out = Command::new(launcher_bin())
+        .arg(&config)
+        .args(["--cycles", &n.to_string(), "--record"])
+        .arg(&file)
+        .env("ROS_DOMAIN_ID", unique_domain().to_string())
+        .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
+        .output()
+        .expect("motion_launch");
+    let log = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "motion_launch failed:\n{log}");
+    assert!(
+        stdout.contains(&format!("axis_node: ran {n} cycles (3.000 s simulated)")),
+        "{stdout}"
+    );
+    eprintln!("{stdout}");
+    assert!(log.contains("(0 dropped)"), "{log}");
+    let got = read_back_with(&file, PY_STAMPS);
+    let _ = std::fs::remove_dir_all(&dir);
+    let Some(got) = got else { return };
+    let v: Vec<i64> = got.split_whitespace().map(|x| x.parse().unwrap()).collect();
+    let (count, first, dmin, dmax) = (v[0], v[1], v[2], v[3]);
+    assert_eq!(count, n + 1, "states of cycles 0 ..= {n}");
+    assert_eq!(
+        (dmin, dmax),
+        (1_000_000, 1_000_000),
+        "stamps not 1 ms apart"
+    );
+    assert_eq!(first, 0, "first stamp");
+}
+
+/// `--cycles` needs lockstep nodes: a real-time node is a configuration error (exit 2).
+#[test]
+fn cycles_refuse_real_time_nodes() {
+    let dir = std::env::temp_dir().join(format!("motion_cycles_rt_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let config = dir.join("rt.yaml");
+    std::fs::write(&config, "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n").unwrap();
+    for (args, needle) in [
+        (vec!["--cycles", "10"], "--cycles runs lockstep nodes only"),
+        (vec!["--cycles", "0"], "is not a positive whole number"),
+        (vec!["--cycles", "x"], "is not a positive whole number"),
+    ] {
+        let out = Command::new(launcher_bin())
+            .arg(&config)
+            .args(&args)
+            .output()
+            .expect("motion_launch");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

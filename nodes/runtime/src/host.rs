@@ -447,6 +447,19 @@ impl<E: Engine> crate::launch::Running for NodeHost<E> {
     fn stop(self: Box<Self>) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>> {
         Box::pin(NodeHost::stop(*self))
     }
+    fn step(
+        &self,
+        n: u64,
+    ) -> std::pin::Pin<Box<dyn std::future::Future<Output = Result<u64, String>> + Send>> {
+        let h = self.handle();
+        Box::pin(async move { h.step(n).await.map_err(|r| r.message) })
+    }
+    fn flush(&self, cycle: u64) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>> {
+        match &self.shell {
+            Some(s) => Box::pin(s.states_flushed(cycle, std::time::Duration::from_secs(5))),
+            None => Box::pin(async {}),
+        }
+    }
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }

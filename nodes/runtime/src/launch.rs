@@ -53,6 +53,21 @@ impl From<ShellError> for StartError {
 pub trait Running: Send {
     /// Stops the node in order (tasks, node, cycle, participant).
     fn stop(self: Box<Self>) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>>;
+    /// Lockstep: runs `n` cycles (the state topics publish every cycle's state, see
+    /// `state_publish_every_n_cycles`) and returns the cycle count afterwards.
+    fn step(
+        &self,
+        n: u64,
+    ) -> std::pin::Pin<Box<dyn std::future::Future<Output = Result<u64, String>> + Send>> {
+        let _ = n;
+        Box::pin(async { Err("not a lockstep node".to_string()) })
+    }
+    /// Waits until the node's state publishers have published the state of cycle `cycle`
+    /// (lockstep stream); at once for nodes without a stream.
+    fn flush(&self, cycle: u64) -> std::pin::Pin<Box<dyn std::future::Future<Output = ()> + Send>> {
+        let _ = cycle;
+        Box::pin(async {})
+    }
     /// The concrete node, for tests.
     fn as_any(&self) -> &dyn Any;
 }
@@ -245,6 +260,9 @@ pub struct Args {
     pub check: bool,
     /// `--record FILE`: record every published message of every node to an MCAP file.
     pub record: Option<String>,
+    /// `--cycles N`: run N cycles of every (lockstep) node as fast as they go, then stop;
+    /// no client needs to step them over DDS.
+    pub cycles: Option<u64>,
     /// `--ros-args ... [--]`.
     pub ros: RosArgs,
 }
@@ -268,6 +286,13 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                 );
             }
             "--check" => a.check = true,
+            "--cycles" => {
+                let v = it.next().ok_or("--cycles needs a number of cycles")?;
+                match v.parse::<u64>() {
+                    Ok(n) if n > 0 => a.cycles = Some(n),
+                    _ => return Err(format!("--cycles: '{v}' is not a positive whole number")),
+                }
+            }
             "--record" => {
                 let v = it
                     .next()
@@ -294,7 +319,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--cycles N] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -315,6 +340,13 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         eprintln!(
             "{program}: configuration error: {path}: no node of kind {} in 'nodes'",
             kind_list(kinds)
+        );
+        return 2;
+    }
+    if let (Some(_), Some(e)) = (args.cycles, entries.iter().find(|e| !e.common.lockstep)) {
+        eprintln!(
+            "{program}: configuration error: {}: --cycles runs lockstep nodes only (set lockstep: true)",
+            e.location
         );
         return 2;
     }
@@ -377,11 +409,22 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
             return 0;
         }
         if !shutdown.requested() {
-            tracing::info!(
-                "{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop",
-                running.len()
-            );
-            wait_for_stop(&shutdown, args.duration).await;
+            if let Some(n) = args.cycles {
+                if let Err(e) = run_cycles(program, &running, &entries, n, &shutdown).await {
+                    eprintln!("{program}: {e}");
+                    for r in running {
+                        r.stop().await;
+                    }
+                    let _ = crate::record::finish();
+                    return 1;
+                }
+            } else {
+                tracing::info!(
+                    "{} node(s) running on ROS_DOMAIN_ID {domain}; Ctrl-C to stop",
+                    running.len()
+                );
+                wait_for_stop(&shutdown, args.duration).await;
+            }
         }
         for r in running {
             r.stop().await;
@@ -403,6 +446,43 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
 
 fn kind_list(kinds: &[NodeKind]) -> String {
     kinds.iter().map(|k| k.kind).collect::<Vec<_>>().join(", ")
+}
+
+/// `--cycles N`: steps every (lockstep) node N cycles, all nodes together in batches (so
+/// Ctrl-C ends the run between batches), and prints how fast that was against real time.
+async fn run_cycles(
+    program: &str,
+    running: &[RunningNode],
+    entries: &[NodeEntry],
+    n: u64,
+    shutdown: &crate::signals::Shutdown,
+) -> Result<(), String> {
+    const BATCH: u64 = 1000;
+    let t0 = std::time::Instant::now();
+    let mut done = 0;
+    let mut cycles = vec![0; running.len()];
+    while done < n && !shutdown.requested() {
+        let k = (n - done).min(BATCH);
+        let steps: Vec<_> = running.iter().map(|r| tokio::spawn(r.step(k))).collect();
+        for (s, c) in steps.into_iter().zip(&mut cycles) {
+            *c = s.await.map_err(|e| format!("stepping: {e}"))??;
+        }
+        done += k;
+    }
+    // Every cycle's state is published (and recorded) before the nodes stop.
+    for (r, &c) in running.iter().zip(&cycles) {
+        r.flush(c).await;
+    }
+    let wall = t0.elapsed().as_secs_f64();
+    for e in entries {
+        let sim = done as f64 * e.common.cycle_period;
+        println!(
+            "{program}: {}: ran {done} cycles ({sim:.3} s simulated) in {wall:.3} s wall: {:.1}x real time",
+            e.common.name,
+            sim / wall.max(1e-9)
+        );
+    }
+    Ok(())
 }
 
 async fn wait_for_stop(shutdown: &crate::signals::Shutdown, duration: Option<f64>) {

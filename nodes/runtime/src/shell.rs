@@ -189,6 +189,8 @@ pub struct NodeShell<E: Engine> {
     taps: Vec<tokio::sync::mpsc::UnboundedSender<(CommandEvent, CommandLabel)>>,
     /// The state publishers' inputs in stream mode (fed by [`NodeShell::start_common`]).
     streams: Vec<StreamSender<E>>,
+    /// Per stream publisher: the cycle of the last snapshot it published + 1 (0: none yet).
+    stream_published: Vec<Arc<std::sync::atomic::AtomicU64>>,
 }
 
 /// One state publisher's input of stream snapshots.
@@ -364,6 +366,7 @@ where
             spinner: None,
             taps: Vec::new(),
             streams: Vec::new(),
+            stream_published: Vec::new(),
         })
     }
 
@@ -945,11 +948,14 @@ where
             // Every streamed cycle, in order (see `spawn_state_stream`).
             let (tx, mut rx) = tokio::sync::mpsc::channel::<Arc<Stamped<E::Snapshot>>>(4);
             self.streams.push(tx);
+            let published = Arc::new(std::sync::atomic::AtomicU64::new(0));
+            self.stream_published.push(published.clone());
             self.tasks.spawn(async move {
                 while let Some(snap) = rx.recv().await {
                     if let Err(e) = publisher.publish(build(&snap), snap.ros_time_ns).await {
                         tracing::warn!("state publish failed: {e:?}");
                     }
+                    published.store(snap.cycle + 1, std::sync::atomic::Ordering::Release);
                 }
             });
             return Ok(());
@@ -973,6 +979,31 @@ where
             }
         });
         Ok(())
+    }
+
+    /// Stream mode: a future that ends once every state publisher has published the snapshot
+    /// of cycle `cycle` (at most `timeout`), so that a node stopped after its last lockstep
+    /// step loses none of its cycles. Ends at once without a stream.
+    pub fn states_flushed(
+        &self,
+        cycle: u64,
+        timeout: Duration,
+    ) -> impl Future<Output = ()> + Send + 'static {
+        let counters = self.stream_published.clone();
+        async move {
+            if counters.is_empty() {
+                return;
+            }
+            let target = cycle + 1;
+            let end = tokio::time::Instant::now() + timeout;
+            while counters
+                .iter()
+                .any(|c| c.load(std::sync::atomic::Ordering::Acquire) < target)
+                && tokio::time::Instant::now() < end
+            {
+                tokio::time::sleep(Duration::from_millis(1)).await;
+            }
+        }
     }
 
     /// Spawns a task of this node (e.g. the publisher of a node-specific event stream); it is

@@ -251,12 +251,13 @@ impl From<crate::ca::CaReply> for AxisReply {
 }
 
 impl AxisCommand {
-    /// The manual's name of a single-axis motion FB (MC_MoveAbsolute ... MC_SetPosition), None
-    /// for every other command: the commands that groups and the platform's safety rules
-    /// screen on their axes.
-    pub fn motion_fb_name(&self) -> Option<&'static str> {
+    /// The manual's FB name of a single-axis call ([`isg_platform::SIM`] for the simulation inputs; empty
+    /// for calls that are not single-axis FBs).
+    pub fn fb_name(&self) -> &'static str {
         use AxisCommand::*;
-        Some(match self {
+        match self {
+            Power(_) => "MC_Power",
+            Reset(_) => "MC_Reset",
             MoveAbsolute(_) => "MC_MoveAbsolute",
             MoveRelative(_) => "MC_MoveRelative",
             MoveAdditive(_) => "MC_MoveAdditive",
@@ -266,16 +267,88 @@ impl AxisCommand {
             MoveContinuousRelative(_) => "MC_MoveContinuousRelative",
             Halt(_) => "MC_Halt",
             Stop(_) => "MC_Stop",
+            SetPosition(_) => "MC_SetPosition",
+            ReadParameter(_) => "MC_ReadParameter",
+            ReadBoolParameter(_) => "MC_ReadBoolParameter",
+            WriteParameter(_) => "MC_WriteParameter",
+            WriteBoolParameter(_) => "MC_WriteBoolParameter",
+            ReadStatus(_) => "MC_ReadStatus",
+            ReadActualPosition(_) => "MC_ReadActualPosition",
+            ReadActualVelocity(_) => "MC_ReadActualVelocity",
+            ReadAxisError(_) => "MC_ReadAxisError",
+            Sim(_) => isg_platform::SIM,
             Home(_) => "MC_Home",
             Jog(_) => "MC_Jog",
+            SetOverride(_) => "MC_SetOverride",
             GearIn(_) => "MC_GearIn",
-            GearInDyn(_) => "MC_GearInDyn",
             GearOut(_) => "MC_GearOut",
+            GearInDyn(_) => "MC_GearInDyn",
             TorqueControl(_) => "MC_TorqueControl",
             MoveSuperImposed(_) => "MC_MoveSuperImposed",
-            SetPosition(_) => "MC_SetPosition",
-            _ => return None,
-        })
+            AbortSuperposition(_) => "MC_AbortSuperposition",
+            TouchProbe(_) => "MC_TouchProbe",
+            AbortTrigger(_) => "MC_AbortTrigger",
+            PhasingAbsolute(_) | PhasingUpdate(_) => "MC_PhasingAbsolute",
+            PhasingRelative(_) => "MC_PhasingRelative",
+            HaltPhasing(_) => "MC_HaltPhasing",
+            GearInMultiMaster(_) => "MC_GearInMultiMaster",
+            ExtSetPointGenEnable(_) => "MC_ExtSetPointGenEnable",
+            ExtSetPointGenDisable(_) => "MC_ExtSetPointGenDisable",
+            ExtSetPointGenFeed(_) => "MC_ExtSetPointGenFeed",
+            ExtSetPointGenFeedWithTorque(_) => "MC_ExtSetPointGenFeedWithTorque",
+            ReadDriveOperationMode(_) => "MC_ReadDriveOperationMode",
+            WriteDriveOperationMode(_) => "MC_WriteDriveOperationMode",
+            BacklashCompensation(_) => "MC_BacklashCompensation",
+            PositionCorrectionLimiter(_) => "MC_PositionCorrectionLimiter",
+            ReadDriveAddress(_) => "MC_ReadDriveAddress",
+            SelectControlLoop(_) => "MC_SelectControlLoop",
+            SetAcceptBlockedDriveSignal(_) => "MC_SetAcceptBlockedDriveSignal",
+            SetEncoderScalingFactor(_) => "MC_SetEncoderScalingFactor",
+            WriteNcIoOutput(_) => "MC_WriteNcIoOutput",
+            TableBasedPositionCompensation(_) => "MC_TableBasedPositionCompensation",
+            ConvertIncPosToPos(_) => "MC_ConvertIncPosToPos",
+            ConvertPosToIncPos(_) => "MC_ConvertPosToIncPos",
+            ReadParameterSet(_) => "MC_ReadParameterSet",
+            ReadAxisComponents(_) => "MC_ReadAxisComponents",
+            WriteParameterPersistent(_) => "MC_WriteParameterPersistent",
+            WriteBoolParameterPersistent(_) => "MC_WriteBoolParameterPersistent",
+            SetExecute { .. }
+            | HomeCalibrationCam { .. }
+            | TorqueControlUpdate { .. }
+            | TouchProbePlcEvent { .. }
+            | ReadFbOutputs { .. }
+            | Group(_)
+            | Platform(_)
+            | Ca(_) => "",
+        }
+    }
+
+    /// The manual's name of a single-axis motion FB (MC_MoveAbsolute ... MC_SetPosition), None
+    /// for every other command: the commands that groups and the platform's safety rules
+    /// screen on their axes.
+    pub fn motion_fb_name(&self) -> Option<&'static str> {
+        use AxisCommand::*;
+        matches!(
+            self,
+            MoveAbsolute(_)
+                | MoveRelative(_)
+                | MoveAdditive(_)
+                | MoveModulo(_)
+                | MoveVelocity(_)
+                | MoveContinuousAbsolute(_)
+                | MoveContinuousRelative(_)
+                | Halt(_)
+                | Stop(_)
+                | Home(_)
+                | Jog(_)
+                | GearIn(_)
+                | GearInDyn(_)
+                | GearOut(_)
+                | TorqueControl(_)
+                | MoveSuperImposed(_)
+                | SetPosition(_)
+        )
+        .then(|| self.fb_name())
     }
 
     /// A plain single-axis motion command: refused on a member of an enabled CA group
