@@ -1,7 +1,7 @@
 //! Benchmarks (not timed tests): figures are printed, with ratios against references measured
 //! in the same run.
 //!
-//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [tracks] [pickplace] [ruckig]` (default: all). `--smoke` runs short
+//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [tracks] [pickplace] [lockstep] [ruckig]` (default: all). `--smoke` runs short
 //! versions (CI).
 //! - runtime: cycle jitter p50/p99/max and overruns of the cyclic controller at 1 kHz with a
 //!   trivial engine (60 s; smoke 2 s).
@@ -18,6 +18,8 @@
 //!   one profile evaluation per mover.
 //! - pickplace: cell step mean and p99.9 (2 belts × 30 workpieces, blended ellipse) against the
 //!   manual's module; cycles from an execute edge to the first moving set point.
+//! - lockstep: the axis node with 10 moving axes in lockstep, every cycle published and
+//!   recorded, as a ratio of simulated to wall time, against the bare engine (netns-run).
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
 //!   the time-optimal duration of the PyPI `ruckig` package; limits checked at 1 ms samples.
 
@@ -30,6 +32,7 @@ use std::time::{Duration, Instant};
 use system_tests::ClientNode;
 
 mod ca;
+mod lockstep;
 mod pickplace;
 mod planar;
 mod tracks;
@@ -70,6 +73,7 @@ fn main() {
             "pickplace",
             "ruckig",
             "flood",
+            "lockstep",
         ]
         .contains(&a.as_str())
     });
@@ -122,6 +126,13 @@ fn main() {
     }
     if all || args.iter().any(|a| a == "pickplace") {
         pickplace::step_cost(if smoke { 5_000 } else { 100_000 });
+    }
+    if all || args.iter().any(|a| a == "lockstep") {
+        if std::env::var("MOTION_IN_NETNS").as_deref() != Ok("1") {
+            eprintln!("lockstep: run inside scripts/netns-run (it opens DDS sockets)");
+            std::process::exit(2);
+        }
+        lockstep::speed(if smoke { 2_000 } else { 20_000 });
     }
     if all || args.iter().any(|a| a == "ruckig") {
         ruckig_ratio(if smoke { 100 } else { 1000 });

@@ -1,0 +1,124 @@
+//! `lockstep` (issue 14 item 4): the axis node with 10 moving axes in lockstep, every cycle's
+//! state published and recorded to MCAP, stepped in-process (as `motion_launch --cycles`
+//! does), as a ratio of simulated to wall time; the reference is the bare engine stepping the
+//! same motion in the same run. Must run inside scripts/netns-run (the node opens DDS sockets).
+
+use axis_engine::{AxisCommand, AxisConfig, AxisEngine, BufferMode, Direction, MoveOptions};
+use axis_engine::{MoveVelocity, Power};
+use motion_core::{Engine, Tick};
+use motion_runtime::host::CommonConfig;
+use motion_runtime::launch::Running;
+use std::time::Instant;
+
+const AXES: usize = 10;
+const TARGET: f64 = 1000.0;
+
+fn orders(i: usize) -> [AxisCommand; 2] {
+    let axis = format!("a{i}");
+    [
+        AxisCommand::Power(Power {
+            axis: axis.clone(),
+            enable: true,
+            enable_positive: true,
+            enable_negative: true,
+            override_percent: 100.0,
+            buffer_mode: BufferMode::Aborting,
+        }),
+        AxisCommand::MoveVelocity(MoveVelocity {
+            axis,
+            velocity: 100.0 + 10.0 * i as f64,
+            acceleration: 0.0,
+            deceleration: 0.0,
+            jerk: 0.0,
+            direction: Direction::Positive,
+            buffer_mode: BufferMode::Aborting,
+            options: MoveOptions::default(),
+        }),
+    ]
+}
+
+/// The bare engine: the same axes and orders, stepped `cycles` times; simulated / wall time.
+fn bare(cycles: u64) -> f64 {
+    let axes = (0..AXES)
+        .map(|i| (format!("a{i}"), AxisConfig::default()))
+        .collect();
+    let mut e = AxisEngine::new(axes).expect("engine");
+    let mut ev = Vec::new();
+    let mut tick = 0;
+    let mut step = |e: &mut AxisEngine| {
+        e.step(
+            Tick {
+                index: tick,
+                dt: 0.001,
+            },
+            &mut ev,
+        );
+        tick += 1;
+        ev.clear();
+    };
+    for k in 0..2 {
+        for i in 0..AXES {
+            e.command(orders(i)[k].clone()).expect("order");
+        }
+        step(&mut e);
+        step(&mut e);
+    }
+    let t0 = Instant::now();
+    for _ in 0..cycles {
+        step(&mut e);
+    }
+    cycles as f64 * 0.001 / t0.elapsed().as_secs_f64()
+}
+
+pub fn speed(cycles: u64) {
+    let file = std::env::temp_dir().join(format!("bench_lockstep_{}.mcap", std::process::id()));
+    motion_runtime::record::start(&file).expect("recording");
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("rt");
+    let (ratio, moving) = rt.block_on(async {
+        let common = CommonConfig {
+            name: "axis_node".into(),
+            lockstep: true,
+            ..Default::default()
+        };
+        let names: Vec<String> = (0..AXES).map(|i| format!("a{i}: {{}}")).collect();
+        let cfg = serde_yaml::from_str(&format!("axes: {{{}}}", names.join(", "))).expect("yaml");
+        let node = axis_node::start(&common, cfg, "bench lockstep", 152).expect("node");
+        let h = node.handle();
+        for k in 0..2 {
+            let replies: Vec<_> = (0..AXES)
+                .map(|i| h.submit(orders(i)[k].clone(), None).expect("queued"))
+                .collect();
+            h.step(2).await.expect("step");
+            for r in replies {
+                r.await.expect("reply").expect("order accepted");
+            }
+        }
+        let t0 = Instant::now();
+        let c = h.step(cycles).await.expect("step");
+        node.flush(c).await;
+        let wall = t0.elapsed().as_secs_f64();
+        let moving = h
+            .snapshot()
+            .state
+            .axes
+            .iter()
+            .filter(|a| a.set_velo > 0.0)
+            .count();
+        Box::new(node).stop().await;
+        (cycles as f64 * 0.001 / wall, moving)
+    });
+    let (written, dropped) = motion_runtime::record::finish()
+        .expect("recording on")
+        .expect("recording closed");
+    let _ = std::fs::remove_file(&file);
+    let bare = bare(cycles);
+    println!(
+        "lockstep @1 ms, axis node, {moving} of {AXES} axes moving, every cycle published and recorded: {ratio:.1}x real time ({written} messages, {dropped} dropped) | bare engine {bare:.0}x (ratio {:.4}) | target >= {TARGET:.0}x: {}",
+        ratio / bare,
+        if ratio >= TARGET { "met" } else { "NOT met" }
+    );
+}
