@@ -44,6 +44,13 @@ fn python() -> Option<String> {
     })
 }
 
+/// A fresh directory for this test process's files (`name` + pid under the temp dir).
+fn scratch_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("{name}_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// What the PyPI readers make of the recording (`PY`'s lines); None when there is no python
 /// with them (skipped, unless `MOTION_MSGS_REQUIRE_MCAP` is set).
 fn read_back(file: &std::path::Path) -> Option<String> {
@@ -74,8 +81,7 @@ fn read_back_with(file: &std::path::Path, script: &str) -> Option<String> {
 #[test]
 fn the_demo_records_every_state_topic_to_mcap() {
     require_netns();
-    let dir = std::env::temp_dir().join(format!("motion_recording_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("motion_recording");
     let file = dir.join("demo.mcap");
     let out = Command::new(launcher_bin())
         .arg(workspace().join("launch-configs/demo.yaml"))
@@ -166,8 +172,7 @@ fn a_recording_that_cannot_be_created_is_a_configuration_error() {
 #[test]
 fn the_launch_config_key_records_events_and_command_status() {
     require_netns();
-    let dir = std::env::temp_dir().join(format!("motion_recording_key_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("motion_recording_key");
     let file = dir.join("key.mcap");
     let config = dir.join("one_axis.yaml");
     std::fs::write(
@@ -248,8 +253,7 @@ print(len(t), t[0], min(d), max(d))
 #[test]
 fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
     require_netns();
-    let dir = std::env::temp_dir().join(format!("motion_recording_cycles_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("motion_recording_cycles");
     let file = dir.join("cycles.mcap");
     let config = dir.join("ten_axes.yaml");
     let axes: Vec<String> = (0..10).map(|i| format!("a{i}: {{}}")).collect();
@@ -296,8 +300,7 @@ fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
 /// `--cycles` needs lockstep nodes: a real-time node is a configuration error (exit 2).
 #[test]
 fn cycles_refuse_real_time_nodes() {
-    let dir = std::env::temp_dir().join(format!("motion_cycles_rt_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("motion_cycles_rt");
     let config = dir.join("rt.yaml");
     std::fs::write(&config, "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n").unwrap();
     for (args, needle) in [

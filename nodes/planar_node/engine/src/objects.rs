@@ -5,7 +5,7 @@
 //! subsystem through [`TrackHooks`] (implemented by `crate::track::TrackSystem`); they do not
 //! know its state.
 //!
-//! Children by concept: `records` (the object records), `core` (construction, lookups,
+//! Children by concept: `records` (the object records), `basics` (construction, lookups,
 //! admission checks, collisions, snapshots), `dispatch`, `environment`, `movers` (the
 //! commands), `cycle` (one cycle of the plane), `track_hooks`.
 
@@ -89,7 +89,7 @@ pub(crate) fn traj_err(who: &str, e: motion_core::trajectory::TrajectoryError) -
     reject(E_INVALID_PARAMETER, format!("{who}: {e}"))
 }
 
-mod core;
+mod basics;
 mod cycle;
 mod dispatch;
 mod environment;
