@@ -389,9 +389,9 @@ impl Engine for AxisEngine {
         events.append(&mut self.set.fbs.events);
         self.platform_cx().map_events(&mut events[from..]);
         // Events of orders the raw FB layer placed become its acknowledgements.
-        let (platform, set) = (&self.platform, &self.set);
+        let set = &self.set;
         self.raw
-            .route(events, from, &|id, e| platform.error_id(set, id, e));
+            .route(events, from, &|id, e| set.shown_error_id(id, e));
     }
 
     fn snapshot(&self) -> AxisSnapshot {

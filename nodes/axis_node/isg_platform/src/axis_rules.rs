@@ -15,16 +15,6 @@ pub struct IsgAxisRules {
     pub modulo: Vec<bool>,
 }
 
-/// The ErrorID an instance of `axis` shows under `isg_mcp`: the axis' own error is reported
-/// as ERR_PLC_AX_MC, anything else unchanged.
-pub fn isg_error_id(axis: &Axis, id: ErrorId) -> ErrorId {
-    if !axis.error_id.is_none() && axis.error_id == id {
-        ERR_PLC_AX_MC
-    } else {
-        id
-    }
-}
-
 impl AxisProfile for IsgAxisRules {
     /// R-SYS-2: on a modulo axis that moves, a discrete motion's target lying behind the
     /// stopping point (with the new command's limits) is replaced by the first equivalent
@@ -50,7 +40,12 @@ impl AxisProfile for IsgAxisRules {
         true
     }
 
+    /// §7.2: the axis' own error is reported as ERR_PLC_AX_MC, anything else unchanged.
     fn shown_error_id(&self, axis: &Axis, id: ErrorId) -> ErrorId {
-        isg_error_id(axis, id)
+        if !axis.error_id.is_none() && axis.error_id == id {
+            ERR_PLC_AX_MC
+        } else {
+            id
+        }
     }
 }

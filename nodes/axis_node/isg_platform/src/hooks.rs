@@ -591,7 +591,7 @@ impl PlatformCx<'_> {
         }
         for e in events {
             if let CommandState::Error(id) = e.state {
-                let mapped = self.platform.error_id(self.set, e.id, id);
+                let mapped = self.set.shown_error_id(e.id, id);
                 if mapped != id {
                     e.state = CommandState::Error(mapped);
                     if let Some(i) = self.set.fbs.get_mut(e.id) {

@@ -267,17 +267,6 @@ impl Platform {
 }
 
 impl Platform {
-    /// The ErrorID an instance shows for `id` under the active profile.
-    pub fn error_id(&self, set: &AxisSet, inst: CmdId, id: ErrorId) -> ErrorId {
-        if !self.isg() {
-            return id;
-        }
-        match set.fbs.get(inst) {
-            Some(i) => crate::axis_rules::isg_error_id(&set.axes[i.axis], id),
-            None => id,
-        }
-    }
-
     /// Snapshot part; `warnings` = the raw FB layer's clog warnings so far.
     pub fn status(
         &self,

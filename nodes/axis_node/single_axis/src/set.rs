@@ -252,13 +252,18 @@ impl AxisSet {
     pub fn fb_outputs(&self, id: CmdId) -> Option<FbOutputs> {
         let mut o = self.fbs.outputs_with(id, self.profile.latch_done())?;
         if o.standard.error {
-            if let Some(i) = self.fbs.get(id) {
-                o.standard.error_id = self
-                    .profile
-                    .shown_error_id(&self.axes[i.axis], o.standard.error_id);
-            }
+            o.standard.error_id = self.shown_error_id(id, o.standard.error_id);
         }
         Some(o)
+    }
+
+    /// The ErrorID instance `inst` shows for `id` under the profile (`id` for an unknown
+    /// instance).
+    pub fn shown_error_id(&self, inst: CmdId, id: ErrorId) -> ErrorId {
+        match self.fbs.get(inst) {
+            Some(i) => self.profile.shown_error_id(&self.axes[i.axis], id),
+            None => id,
+        }
     }
 
     /// Outputs of the axis' MC_Power (Enable-type, §4.1): Status, Busy (= Enable), Active

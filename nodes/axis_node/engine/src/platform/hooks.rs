@@ -113,7 +113,7 @@ impl isg_platform::raw::RawHost for AxisEngine {
     }
 
     fn shown_error(&self, id: CmdId, e: ErrorId) -> ErrorId {
-        self.platform.error_id(&self.set, id, e)
+        self.set.shown_error_id(id, e)
     }
 
     fn platform(&mut self) -> &mut Platform {
