@@ -351,6 +351,40 @@ impl AxisCommand {
         .then(|| self.fb_name())
     }
 
+    /// An FB added to Tc2_MC2 after the first release (phasing, multi-master gearing,
+    /// external set-point generator, §4.7 extensions): not in the ISG catalogue.
+    pub fn is_extension(&self) -> bool {
+        use AxisCommand as C;
+        matches!(
+            self,
+            C::PhasingAbsolute(_)
+                | C::PhasingRelative(_)
+                | C::HaltPhasing(_)
+                | C::PhasingUpdate(_)
+                | C::GearInMultiMaster(_)
+                | C::ExtSetPointGenEnable(_)
+                | C::ExtSetPointGenDisable(_)
+                | C::ExtSetPointGenFeed(_)
+                | C::ExtSetPointGenFeedWithTorque(_)
+                | C::ReadDriveOperationMode(_)
+                | C::WriteDriveOperationMode(_)
+                | C::BacklashCompensation(_)
+                | C::PositionCorrectionLimiter(_)
+                | C::ReadDriveAddress(_)
+                | C::SelectControlLoop(_)
+                | C::SetAcceptBlockedDriveSignal(_)
+                | C::SetEncoderScalingFactor(_)
+                | C::WriteNcIoOutput(_)
+                | C::TableBasedPositionCompensation(_)
+                | C::ConvertIncPosToPos(_)
+                | C::ConvertPosToIncPos(_)
+                | C::ReadParameterSet(_)
+                | C::ReadAxisComponents(_)
+                | C::WriteParameterPersistent(_)
+                | C::WriteBoolParameterPersistent(_)
+        )
+    }
+
     /// A plain single-axis motion command: refused on a member of an enabled CA group
     /// (collision_avoidance.md §4.2); MC_GearOut is not one there.
     pub fn is_plain_motion(&self) -> bool {

@@ -229,7 +229,7 @@ impl AxisEngine {
                     .map(Into::into)
             }
             // A later call of a running phasing instance (by id, like the updates above).
-            AxisCommand::PhasingUpdate(_) => return self.command_axis3(cmd),
+            AxisCommand::PhasingUpdate(u) => return self.set.phasing_update(u).map(Into::into),
             _ => {}
         }
         let ax = self.set.axis_index(cmd.axis().unwrap_or_default())?;
@@ -243,13 +243,7 @@ impl AxisEngine {
         if cmd.is_plain_motion() {
             self.ca.screen_single_axis_motion(ax)?;
         }
-        // The FBs added later (phasing, multi-master, ext. set-point generator, §4.7), routed in hooks.rs.
-        let res = if is_axis3(&cmd) {
-            self.command_axis3(cmd)
-        } else {
-            self.axis_command(ax, cmd)
-        };
-        match res {
+        match self.axis_command(ax, cmd) {
             Ok(reply) => {
                 self.platform_cx().accepted(ax, order, kind, reply.id);
                 Ok(reply)
@@ -304,38 +298,67 @@ impl AxisEngine {
             | AxisCommand::HomeCalibrationCam { .. }
             | AxisCommand::TorqueControlUpdate { .. }
             | AxisCommand::TouchProbePlcEvent { .. }
+            | AxisCommand::PhasingUpdate(_)
             | AxisCommand::ReadFbOutputs { .. }
             | AxisCommand::Group(_)
             | AxisCommand::Platform(_)
             | AxisCommand::Ca(_) => {
                 unreachable!("handled above")
             }
-            AxisCommand::PhasingAbsolute(_)
-            | AxisCommand::PhasingRelative(_)
-            | AxisCommand::HaltPhasing(_)
-            | AxisCommand::PhasingUpdate(_)
-            | AxisCommand::GearInMultiMaster(_)
-            | AxisCommand::ExtSetPointGenEnable(_)
-            | AxisCommand::ExtSetPointGenDisable(_)
-            | AxisCommand::ExtSetPointGenFeed(_)
-            | AxisCommand::ExtSetPointGenFeedWithTorque(_)
-            | AxisCommand::ReadDriveOperationMode(_)
-            | AxisCommand::WriteDriveOperationMode(_)
-            | AxisCommand::BacklashCompensation(_)
-            | AxisCommand::PositionCorrectionLimiter(_)
-            | AxisCommand::ReadDriveAddress(_)
-            | AxisCommand::SelectControlLoop(_)
-            | AxisCommand::SetAcceptBlockedDriveSignal(_)
-            | AxisCommand::SetEncoderScalingFactor(_)
-            | AxisCommand::WriteNcIoOutput(_)
-            | AxisCommand::TableBasedPositionCompensation(_)
-            | AxisCommand::ConvertIncPosToPos(_)
-            | AxisCommand::ConvertPosToIncPos(_)
-            | AxisCommand::ReadParameterSet(_)
-            | AxisCommand::ReadAxisComponents(_)
-            | AxisCommand::WriteParameterPersistent(_)
-            | AxisCommand::WriteBoolParameterPersistent(_) => {
-                unreachable!("handled by command_axis3")
+            // The FBs added after the first release (phasing, multi-master gearing,
+            // external set-point generator, §4.7 extensions).
+            AxisCommand::PhasingAbsolute(c) => s.phasing_absolute(ax, c),
+            AxisCommand::PhasingRelative(c) => s.phasing_relative(ax, c),
+            AxisCommand::HaltPhasing(c) => s.halt_phasing(ax, c),
+            AxisCommand::GearInMultiMaster(c) => s.gear_in_multi_master(ax, c),
+            AxisCommand::ExtSetPointGenEnable(c) => s.ext_set_point_gen_enable(ax, c),
+            AxisCommand::ExtSetPointGenDisable(_) => s.ext_set_point_gen_disable(ax),
+            AxisCommand::ExtSetPointGenFeed(c) => s.ext_set_point_gen_feed(
+                ax,
+                "MC_ExtSetPointGenFeed",
+                State1 {
+                    pos: c.position,
+                    vel: c.velocity,
+                    acc: c.acceleration,
+                },
+                c.direction,
+                0.0,
+            ),
+            AxisCommand::ExtSetPointGenFeedWithTorque(c) => s.ext_set_point_gen_feed(
+                ax,
+                "MC_ExtSetPointGenFeedWithTorque",
+                State1 {
+                    pos: c.position,
+                    vel: c.velocity,
+                    acc: c.acceleration,
+                },
+                c.direction,
+                c.torque_offset,
+            ),
+            AxisCommand::ReadDriveOperationMode(_) => s.read_drive_operation_mode(ax),
+            AxisCommand::WriteDriveOperationMode(c) => s.write_drive_operation_mode(ax, c),
+            AxisCommand::BacklashCompensation(c) => s.backlash_compensation(ax, c),
+            AxisCommand::PositionCorrectionLimiter(c) => s.position_correction_limiter(ax, c),
+            AxisCommand::ReadDriveAddress(_) => s.read_drive_address(ax),
+            AxisCommand::SelectControlLoop(c) => s.select_control_loop(ax, c),
+            AxisCommand::SetAcceptBlockedDriveSignal(c) => s.set_accept_blocked_drive_signal(ax, c),
+            AxisCommand::SetEncoderScalingFactor(c) => s.set_encoder_scaling_factor(ax, c),
+            AxisCommand::WriteNcIoOutput(c) => s.write_nc_io_output(ax, c),
+            AxisCommand::TableBasedPositionCompensation(c) => {
+                s.table_based_position_compensation(ax, c)
+            }
+            AxisCommand::ConvertIncPosToPos(c) => s.convert_inc_pos_to_pos(ax, c),
+            AxisCommand::ConvertPosToIncPos(c) => s.convert_pos_to_inc_pos(ax, c),
+            AxisCommand::ReadParameterSet(_) => s.read_parameter_set(ax),
+            AxisCommand::ReadAxisComponents(_) => s.read_axis_components(ax),
+            AxisCommand::WriteParameterPersistent(c) => s.write_param_persistent(ax, c, false),
+            AxisCommand::WriteBoolParameterPersistent(c) => {
+                let c = WriteParameter {
+                    axis: c.axis,
+                    parameter_number: c.parameter_number,
+                    value: c.value as u8 as f64,
+                };
+                s.write_param_persistent(ax, c, true)
             }
         };
         reply.map(Into::into)
@@ -442,8 +465,5 @@ impl Engine for AxisEngine {
     }
 }
 
-// ---- The composition's glue to the layers: groups (Part 4), and the routing of the added
-// single-axis FBs.
+// ---- The composition's glue to the Part 4 groups.
 mod groups;
-pub mod hooks;
-pub(crate) use hooks::is_axis3;

@@ -69,7 +69,7 @@
 //! [`handshake`], [`buffer`], [`params`], [`modulo`], [`superposition`], [`probe`], [`calc`],
 //! [`config`], ...).
 //!
-//! Added later, in `single_axis::set` and routed at one place (`engine/hooks.rs`):
+//! Added later, in `single_axis::set`, routed like every single-axis FB (`engine.rs`):
 //! [`phasing`] (§4.13), [`multi_master`] (MC_GearInMultiMaster, §4.12.4), [`ext_setpoint`]
 //! (§4.6) and [`extensions`] (§4.7, MC_ReadParameterSet, MC_ReadAxisComponents,
 //! MC_Write(Bool)ParameterPersistent). For the shell: later inputs of a running

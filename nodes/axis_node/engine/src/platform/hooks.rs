@@ -128,7 +128,7 @@ impl AxisCommand {
     pub fn platform_call(&mut self) -> AxisCall<'_> {
         use AxisCommand::*;
         let fb = self.fb_name();
-        let extension = crate::engine::is_axis3(self);
+        let extension = self.is_extension();
         let motion = self.motion_fb_name().is_some();
         let (velocity, buffer_mode) = match self {
             MoveAbsolute(c) => (Some(&mut c.velocity), Some(&mut c.buffer_mode)),
