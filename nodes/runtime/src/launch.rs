@@ -408,15 +408,12 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
             println!("{path}: OK ({} nodes)", entries.len());
             return 0;
         }
+        let mut code = 0;
         if !shutdown.requested() {
             if let Some(n) = args.cycles {
                 if let Err(e) = run_cycles(program, &running, &entries, n, &shutdown).await {
                     eprintln!("{program}: {e}");
-                    for r in running {
-                        r.stop().await;
-                    }
-                    let _ = crate::record::finish();
-                    return 1;
+                    code = 1;
                 }
             } else {
                 tracing::info!(
@@ -440,7 +437,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
             }
             None => {}
         }
-        0
+        code
     })
 }
 

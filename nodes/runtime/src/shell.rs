@@ -190,7 +190,7 @@ pub struct NodeShell<E: Engine> {
     /// The state publishers' inputs in stream mode (fed by [`NodeShell::start_common`]).
     streams: Vec<StreamSender<E>>,
     /// Per stream publisher: the cycle of the last snapshot it published + 1 (0: none yet).
-    stream_published: Vec<Arc<std::sync::atomic::AtomicU64>>,
+    stream_published: Vec<tokio::sync::watch::Receiver<u64>>,
 }
 
 /// One state publisher's input of stream snapshots.
@@ -948,14 +948,14 @@ where
             // Every streamed cycle, in order (see `spawn_state_stream`).
             let (tx, mut rx) = tokio::sync::mpsc::channel::<Arc<Stamped<E::Snapshot>>>(4);
             self.streams.push(tx);
-            let published = Arc::new(std::sync::atomic::AtomicU64::new(0));
-            self.stream_published.push(published.clone());
+            let (published, watch) = tokio::sync::watch::channel(0);
+            self.stream_published.push(watch);
             self.tasks.spawn(async move {
                 while let Some(snap) = rx.recv().await {
                     if let Err(e) = publisher.publish(build(&snap), snap.ros_time_ns).await {
                         tracing::warn!("state publish failed: {e:?}");
                     }
-                    published.store(snap.cycle + 1, std::sync::atomic::Ordering::Release);
+                    published.send_replace(snap.cycle + 1);
                 }
             });
             return Ok(());
@@ -989,20 +989,15 @@ where
         cycle: u64,
         timeout: Duration,
     ) -> impl Future<Output = ()> + Send + 'static {
-        let counters = self.stream_published.clone();
+        let mut published = self.stream_published.clone();
         async move {
-            if counters.is_empty() {
-                return;
-            }
-            let target = cycle + 1;
-            let end = tokio::time::Instant::now() + timeout;
-            while counters
-                .iter()
-                .any(|c| c.load(std::sync::atomic::Ordering::Acquire) < target)
-                && tokio::time::Instant::now() < end
-            {
-                tokio::time::sleep(Duration::from_millis(1)).await;
-            }
+            let all = async {
+                for p in &mut published {
+                    // An ended publisher (node stopping) has nothing more to publish.
+                    let _ = p.wait_for(|&c| c > cycle).await;
+                }
+            };
+            let _ = tokio::time::timeout(timeout, all).await;
         }
     }
 
