@@ -551,20 +551,21 @@ impl Objects {
                 .groups
                 .iter()
                 .enumerate()
-                .map(|(gi, g)| GroupSnapshot {
-                    name: g.name.clone(),
-                    oid: g.oid,
-                    state: g.sm.state,
-                    member_count: g.movers.len()
-                        + g.environment as usize
-                        + tracks.group_tracks(gi).len(),
-                    tracks: tracks.group_tracks(gi),
-                    movers: g
-                        .movers
-                        .iter()
-                        .map(|&j| self.movers[j].name.clone())
-                        .collect(),
-                    environment_member: g.environment,
+                .map(|(gi, g)| {
+                    let member_tracks = tracks.group_tracks(gi);
+                    GroupSnapshot {
+                        name: g.name.clone(),
+                        oid: g.oid,
+                        state: g.sm.state,
+                        member_count: g.movers.len() + g.environment as usize + member_tracks.len(),
+                        tracks: member_tracks,
+                        movers: g
+                            .movers
+                            .iter()
+                            .map(|&j| self.movers[j].name.clone())
+                            .collect(),
+                        environment_member: g.environment,
+                    }
                 })
                 .collect(),
             parts: self
