@@ -296,8 +296,7 @@ impl PlatformCx<'_> {
                     .retain(|id, _| fbs.get(*id).is_some() || groups.instances.contains_key(id));
             }
             self.platform.axes[ax].slot = Some((id, kind == PostKind::Stop));
-            self.platform.order_ids.insert(id, self.platform.g_order_id);
-            self.platform.g_order_id = self.platform.g_order_id.wrapping_add(1);
+            self.platform.draw_order_id(id);
         }
         if kind == PostKind::Home && self.platform.safety() {
             self.platform.homes.push((id, ax));
@@ -759,8 +758,7 @@ impl PlatformCx<'_> {
     /// Group `g`'s order (instance `id`) was taken: its slot is used, it gets its order number.
     pub fn group_order_placed(&mut self, g: usize, id: CmdId) {
         self.groups.list[g].slot = true;
-        self.platform.order_ids.insert(id, self.platform.g_order_id);
-        self.platform.g_order_id = self.platform.g_order_id.wrapping_add(1);
+        self.platform.draw_order_id(id);
     }
 
     /// A member of a group reset by MC_GrpReset was reset: in `isg_mcp` its MC message buffer

@@ -93,6 +93,12 @@ impl Platform {
         self.order_ids.get(&id).copied()
     }
 
+    /// Instance `id` placed an order: it gets the next global order number (§4.3).
+    pub(crate) fn draw_order_id(&mut self, id: CmdId) {
+        self.order_ids.insert(id, self.g_order_id);
+        self.g_order_id = self.g_order_id.wrapping_add(1);
+    }
+
     /// A raw-layer re-trigger (§4.3): the new command keeps the instance's order number, and
     /// the number it drew is given back.
     pub fn keep_order_id(&mut self, id: CmdId, order_id: u32) {
