@@ -20,9 +20,10 @@
 //!   §1–§3, §5.1–§5.3, §5.10–§5.11), with admission, free movement and the no-overlap guard;
 //!   it reaches the tracks only through its `TrackHooks` trait;
 //! * [`track`]: the track subsystem (`TrackSystem`: tracks, switches, virtual axes; §1.6,
-//!   §2.5, §3.3, §5.4–§5.9, §5.12) with its own state, driving the movers through the
-//!   `Objects` it is handed;
-//! * `engine`: [`PlanarEngine`], the composition: commands and the cycle's stages;
+//!   §2.5, §3.3, §5.4–§5.9, §5.12) with its own state, driving the movers only through its
+//!   `MoverDrive` trait (implemented by `Objects`);
+//! * `engine`: [`PlanarEngine`], the composition: commands and the cycle's stages, and the
+//!   one place where the two traits are wired (`TrackHooks` for `TrackSystem`);
 //! * `build` (the engine from its configuration, the tracks' init parameters as commands)
 //!   and [`bench`](mod@bench) (the benchmark scene, [`bench_loop`]) use the engine from above.
 //!

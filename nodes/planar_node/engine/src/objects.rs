@@ -2,12 +2,13 @@
 //! xplanar.md §1–§3, §5), with command admission, free movement and the no-overlap guard.
 //! Commands are admitted at once (no queue, §2.4): a new command aborts the active command of
 //! its axis domain. Where a mover's motion touches a track, the objects call the track
-//! subsystem through [`TrackHooks`] (implemented by `crate::track::TrackSystem`); they do not
+//! subsystem through [`TrackHooks`] (implemented by the tracks, wired in `crate::engine`); they do not
 //! know its state.
 //!
 //! Children by concept: `records` (the object records), `basics` (construction, lookups,
 //! admission checks, collisions, snapshots), `dispatch`, `environment`, `movers` (the
-//! commands), `cycle` (one cycle of the plane), `track_hooks`.
+//! commands), `cycle` (one cycle of the plane), `track_hooks` (their way to the tracks),
+//! `mover_drive` (the tracks' way to the movers).
 
 use crate::admission::{admissible, AdmissionContext, CommandKind};
 use crate::command::{ObjectKind, PlanarCommand};
@@ -15,9 +16,7 @@ use crate::config::PlanarConfig;
 use crate::errors::*;
 use crate::geometry::{boundary_elements, tiles_overlap, ConvexPolygon, V2};
 use crate::guard::Grid;
-use crate::motion::{
-    in_c_window, modulo_target, range_in_one_window, stop_range, Axis1, Kin2, PathPlan,
-};
+use crate::motion::{in_c_window, modulo_target, range_in_one_window, Axis1, Kin2, PathPlan};
 use crate::snapshot::*;
 use crate::state::{Accepted, PlanarStateMachine, Timing};
 use crate::types::*;
@@ -26,7 +25,7 @@ use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, Rejection};
 use std::collections::HashMap;
 
 pub(crate) use records::*;
-pub use track_hooks::TrackHooks;
+pub(crate) use track_hooks::TrackHooks;
 
 /// The planar objects (environment, parts, movers, groups; xplanar.md §1) in one place, with
 /// what their commands share: timing, ids, pending events, the no-overlap guard's grid.
@@ -93,6 +92,7 @@ mod basics;
 mod cycle;
 mod dispatch;
 mod environment;
+mod mover_drive;
 mod movers;
 mod records;
 mod track_hooks;

@@ -190,7 +190,7 @@ impl Objects {
             .ok_or_else(|| Rejection::unknown_object("mover", name))
     }
 
-    pub(super) fn group(&self, name: &str) -> Result<usize, Rejection> {
+    pub(crate) fn group(&self, name: &str) -> Result<usize, Rejection> {
         self.group_idx
             .get(name)
             .copied()

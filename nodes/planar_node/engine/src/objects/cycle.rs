@@ -103,40 +103,6 @@ impl Objects {
         }
     }
 
-    /// Envelope of a mover state: footprint swept along its maximum-dynamics stop (§5.11 guard).
-    pub(crate) fn envelope_of(m: &Mover, xy: &Kin2, c: &State1) -> ConvexPolygon {
-        let c_moves = c.vel != 0.0 || c.acc != 0.0;
-        let fp = if c_moves {
-            let h = m.diag() / 2.0;
-            ConvexPolygon::aabb_box(V2::new(-h, -h), V2::new(h, h))
-        } else {
-            ConvexPolygon::rect(V2::zeros(), m.cfg.width, m.cfg.height, c.pos)
-        };
-        if !xy.moving() {
-            return if c_moves {
-                m.square_at(xy.pos)
-            } else {
-                ConvexPolygon::rect(xy.pos, m.cfg.width, m.cfg.height, c.pos)
-            };
-        }
-        let u = if xy.vel.norm() > 1e-12 {
-            xy.vel.normalize()
-        } else {
-            xy.acc.normalize()
-        };
-        let n = V2::new(-u.y, u.x);
-        let (d, j) = (m.cfg.max_dynamics.deceleration, m.cfg.max_dynamics.jerk);
-        let (s0, s1) = stop_range(xy.vel.dot(&u), xy.acc.dot(&u), d, j);
-        let (q0, q1) = stop_range(xy.vel.dot(&n), xy.acc.dot(&n), d, j);
-        let bx = ConvexPolygon::hull(&[
-            xy.pos + u * s0 + n * q0,
-            xy.pos + u * s1 + n * q0,
-            xy.pos + u * s1 + n * q1,
-            xy.pos + u * s0 + n * q1,
-        ]);
-        bx.minkowski(&fp)
-    }
-
     pub(crate) fn step_motion(&mut self, tracks: &mut dyn TrackHooks, dt: f64) {
         let mut grid = std::mem::take(&mut self.grid);
         let mut cand = std::mem::take(&mut self.scratch);
@@ -313,7 +279,7 @@ impl Objects {
                 vel: c_next.vel + o.vel.c,
                 acc: c_next.acc + o.acc.c,
             };
-            let env = Self::envelope_of(m, &shown, &c_shown);
+            let env = m.stop_envelope(&shown, &c_shown);
             grid.query(m.cs, &env, cand);
             if m.group.is_none() {
                 // Outside a group the mover has no collision checks (§3.2): it drives on

@@ -2,11 +2,12 @@
 
 use crate::config::{MoverConfig, PartPositionConfig};
 use crate::geometry::{ConvexPolygon, V2};
-use crate::motion::{Axis1, Kin2, PathPlan};
+use crate::motion::{stop_range, Axis1, Kin2, PathPlan};
 use crate::state::PlanarStateMachine;
 use crate::types::{
     CCoordinateMode, CommandMode, ExternalSetpointMode, MoverVector, PlanarObjectInfo,
 };
+use motion_core::trajectory::State1;
 use motion_core::{CmdId, ErrorId};
 use std::collections::BTreeMap;
 
@@ -138,6 +139,43 @@ impl Mover {
             && !self.a.moving()
             && !self.b.moving()
             && self.esg.is_none()
+    }
+
+    /// Envelope of a mover state: footprint swept along its maximum-dynamics stop (§5.11 guard).
+    pub fn stop_envelope(&self, xy: &Kin2, c: &State1) -> ConvexPolygon {
+        let c_moves = c.vel != 0.0 || c.acc != 0.0;
+        let fp = if c_moves {
+            let h = self.diag() / 2.0;
+            ConvexPolygon::aabb_box(V2::new(-h, -h), V2::new(h, h))
+        } else {
+            ConvexPolygon::rect(V2::zeros(), self.cfg.width, self.cfg.height, c.pos)
+        };
+        if !xy.moving() {
+            return if c_moves {
+                self.square_at(xy.pos)
+            } else {
+                ConvexPolygon::rect(xy.pos, self.cfg.width, self.cfg.height, c.pos)
+            };
+        }
+        let u = if xy.vel.norm() > 1e-12 {
+            xy.vel.normalize()
+        } else {
+            xy.acc.normalize()
+        };
+        let n = V2::new(-u.y, u.x);
+        let (d, j) = (
+            self.cfg.max_dynamics.deceleration,
+            self.cfg.max_dynamics.jerk,
+        );
+        let (s0, s1) = stop_range(xy.vel.dot(&u), xy.acc.dot(&u), d, j);
+        let (q0, q1) = stop_range(xy.vel.dot(&n), xy.acc.dot(&n), d, j);
+        let bx = ConvexPolygon::hull(&[
+            xy.pos + u * s0 + n * q0,
+            xy.pos + u * s1 + n * q0,
+            xy.pos + u * s1 + n * q1,
+            xy.pos + u * s0 + n * q1,
+        ]);
+        bx.minkowski(&fp)
     }
 
     pub fn pose(&self) -> MoverVector {

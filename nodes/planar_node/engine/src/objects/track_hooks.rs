@@ -1,6 +1,6 @@
 //! The narrow interface through which the objects reach the track subsystem, only where a
-//! mover's motion or state touches a track. `crate::track::TrackSystem` implements it; the
-//! objects never see the tracks' state.
+//! mover's motion or state touches a track. `crate::track::TrackSystem` implements it (wired in
+//! `crate::engine`); the objects never see the tracks' state.
 
 use super::{Mover, Objects};
 use crate::command::PlanarCommand;
@@ -11,7 +11,7 @@ use crate::types::ErrorReaction;
 use motion_core::{CommandEvent, Rejection};
 
 /// What the objects need from the track subsystem.
-pub trait TrackHooks {
+pub(crate) trait TrackHooks {
     /// A track command or an on-track mover command (§3.2, §3.3).
     fn command(
         &mut self,

@@ -9,13 +9,16 @@
 //! the static collision check).
 //!
 //! The track subsystem owns the tracks, the network's switches and the virtual axes. It
-//! drives the movers only through the objects it is handed (`objects: &mut Objects`: their
-//! records, admission checks, free-movement planning, events and ids); the objects reach
-//! back into it (`tracks: &mut TrackSystem`) only where a mover's motion touches a track:
-//! its on-track cycle, coming to rest, the swept-area check, leaving a track on a state
-//! change, snapshots.
+//! drives the movers only through [`MoverDrive`] (module `drive`: the mover records, admission
+//! checks, free-movement starts for join/leave, collisions, events and ids, all listed in
+//! one trait implemented by the objects); it never names `Objects`. The objects reach back
+//! (`TrackHooks`, wired in `crate::engine`) only where a mover's motion touches a track: its
+//! on-track cycle, coming to rest, the swept-area check, leaving a track on a state change,
+//! snapshots.
 
+mod drive;
 mod system;
+pub(crate) use drive::MoverDrive;
 pub use system::TrackSystem;
 pub(crate) mod gap;
 pub mod geometry;

@@ -2,10 +2,10 @@
 //! "Maximal mover width/height", "Check collision against static objects", "Collision range
 //! mode" and "Collision range at start/end".
 
+use super::MoverDrive;
 use super::TrackSystem;
 use crate::config::{CollisionRangeMode, TrackConfig};
 use crate::errors::{reject, E_INVALID_STATE};
-use crate::objects::Objects;
 use crate::types::PlanarState;
 use crate::PlanarReply;
 use motion_core::Rejection;
@@ -81,7 +81,7 @@ impl TrackSystem {
     /// ranges are recomputed by the caller (as after a geometry command).
     pub(crate) fn track_set_init_parameters(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         k: usize,
         p: &TrackConfig,
     ) -> Result<PlanarReply, Rejection> {

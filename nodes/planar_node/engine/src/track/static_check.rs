@@ -8,10 +8,10 @@
 //! length after which the tracks are farther apart than the clearance, §5.6.4) and at least one
 //! tube width plus one piece, which covers a plain joint without a switch (range 0).
 
+use super::MoverDrive;
 use super::Track;
 use super::TrackSystem;
 use crate::geometry::{ConvexPolygon, V2};
-use crate::objects::Objects;
 use crate::types::{PlanarObjectInfo, PlanarObjectType};
 use motion_core::Rejection;
 
@@ -32,7 +32,7 @@ impl TrackSystem {
     /// group `g`; Ok when the track's "Check collision against static objects" is FALSE.
     pub(crate) fn track_static_check(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         k: usize,
         g: usize,
         tube: &[ConvexPolygon],
@@ -50,7 +50,10 @@ impl TrackSystem {
         if !tiles.is_empty() {
             if let Some(i) = placed.iter().position(|q| !q.inside_tiles(&tiles)) {
                 let s = self.tracks[k].length() * i as f64 / placed.len() as f64;
-                let (oid, name) = (objects.env.oid, objects.env.name.clone());
+                let (oid, name) = (
+                    objects.environment().oid,
+                    objects.environment().name.clone(),
+                );
                 let info = PlanarObjectInfo {
                     object_type: PlanarObjectType::Environment,
                     id: oid,
@@ -96,7 +99,12 @@ impl TrackSystem {
     }
 
     /// The exempt stretches of tracks `k` and `o` at the points where their ends meet.
-    fn connections(&self, objects: &Objects, k: usize, o: usize) -> (Vec<Exempt>, Vec<Exempt>) {
+    fn connections(
+        &self,
+        objects: &dyn MoverDrive,
+        k: usize,
+        o: usize,
+    ) -> (Vec<Exempt>, Vec<Exempt>) {
         let ends = |t: usize| -> Vec<(bool, V2, f64)> {
             let tr: &Track = &self.tracks[t];
             let sh = self.track_shift_at(objects, t, 0);

@@ -2,8 +2,9 @@
 //! behaviour: track methods (§3.3), JoinTrack / LeaveTrack / MoveOnTrack /
 //! AdoptTrackOrientation (§3.2), operation modes (§2.5), and the on-track cycle with gap
 //! control (§5.6.3) and network transitions (§5.6.5). Each concept has its module below.
-//! The movers it drives are handed in as `objects: &mut Objects` (module doc of `track`).
+//! The movers it drives are handed in as `objects: &mut dyn MoverDrive` (module doc of `track`).
 
+use super::drive::{end, ev, started, traj_err, Mover, MoverDrive};
 use super::gap::{reach, step_ok, AIM_INSIDE, GAP_EPS};
 use super::geometry::{GeometryError, TrackPose};
 use super::{GearIn, Master, SyncDirections, Track, TrackMotion, TrackOperationMode, TrackTarget};
@@ -13,7 +14,6 @@ use crate::errors::*;
 use crate::geometry::V2;
 use crate::guard::Grid;
 use crate::motion::{in_c_window, modulo_target, Kin2};
-use crate::objects::{end, ev, started, traj_err, Objects, TrackHooks};
 use crate::snapshot::{OnTrackSnapshot, PlanarReply, ReplyValue, TrackSnapshot};
 use crate::types::*;
 use motion_core::trajectory::{Limits, Profile1, State1};
@@ -42,8 +42,8 @@ pub struct TrackSystem {
 impl TrackSystem {
     /// The configured tracks (without their init parameters, which `build::tracks` applies as
     /// commands) and virtual axes; tracks on parts start where their part is.
-    pub(crate) fn new(cfg: &crate::config::PlanarConfig, objects: &Objects) -> Self {
-        let part_frames: Vec<super::PartFrame> = (objects.parts.iter())
+    pub(crate) fn new(cfg: &crate::config::PlanarConfig, objects: &dyn MoverDrive) -> Self {
+        let part_frames: Vec<super::PartFrame> = (objects.parts().iter())
             .map(|p| {
                 let (cs, origin) = p.origin();
                 super::PartFrame {
@@ -115,9 +115,9 @@ impl TrackSystem {
     /// GetPositionAt without a command: the pose at `arc_length` in the track's current part
     /// position. Pure, so the shell can sample whole tracks through the runtime's read-only
     /// query path (drawing markers must not flood `~/command_status`).
-    pub fn track_position_at(
+    pub(crate) fn track_position_at(
         &self,
-        objects: &Objects,
+        objects: &dyn MoverDrive,
         track: &str,
         arc_length: f64,
     ) -> Result<PositionXYC, Rejection> {
@@ -139,7 +139,7 @@ impl TrackSystem {
         }
         let mut p = t.geo.pose_at(arc_length);
         p.p += self.track_shift_at(objects, k, 0);
-        let refid = if objects.coordinate_systems.len() == 1 && t.cs == 0 {
+        let refid = if objects.coordinate_system_count() == 1 && t.cs == 0 {
             0
         } else {
             t.cs
@@ -157,10 +157,10 @@ impl TrackSystem {
     // ------------------------------------------------------------------ operation modes (§2.5)
 
     /// Operation modes of all tracks, derived from the movers (O(movers + tracks)).
-    pub(crate) fn track_modes(&self, objects: &Objects) -> Vec<TrackOperationMode> {
+    pub(crate) fn track_modes(&self, objects: &dyn MoverDrive) -> Vec<TrackOperationMode> {
         let mut moving = vec![false; self.tracks.len()];
         let mut config = vec![false; self.tracks.len()];
-        for m in &objects.movers {
+        for m in objects.movers() {
             if let Some(t) = &m.track {
                 if t.active() {
                     moving[t.track] = true;
@@ -195,7 +195,7 @@ impl TrackSystem {
 
     fn require_track_ready(
         &self,
-        objects: &Objects,
+        objects: &dyn MoverDrive,
         k: usize,
         who: &str,
     ) -> Result<TrackOperationMode, Rejection> {
@@ -255,7 +255,7 @@ impl TrackSystem {
     /// A point of a geometry call in the track's coordinate system.
     fn track_point(
         &self,
-        objects: &Objects,
+        objects: &dyn MoverDrive,
         k: usize,
         field: &str,
         p: &PositionXYC,
@@ -287,7 +287,7 @@ impl TrackSystem {
 
     fn check_position_index(
         &self,
-        objects: &Objects,
+        objects: &dyn MoverDrive,
         k: usize,
         index: u32,
         which: &str,
@@ -297,10 +297,10 @@ impl TrackSystem {
         }
         let t = &self.tracks[k];
         let ok = objects
-            .parts
+            .parts()
             .iter()
             .find(|p| p.oid == t.part_oid)
-            .or(objects.parts.first().filter(|_| t.part_oid == 0))
+            .or(objects.parts().first().filter(|_| t.part_oid == 0))
             .is_some_and(|p| p.positions.contains_key(&index));
         if !ok {
             return Err(reject(
@@ -316,7 +316,7 @@ impl TrackSystem {
 
     fn start_from_track(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         k: usize,
         o: usize,
         adv: super::TrackLinkAdvancedOptions,
@@ -377,7 +377,7 @@ impl TrackSystem {
 
     fn end_at_track(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         k: usize,
         o: usize,
         adv: super::TrackLinkAdvancedOptions,
@@ -433,7 +433,11 @@ impl TrackSystem {
         objects.done_now()
     }
 
-    fn track_clear(&mut self, objects: &mut Objects, k: usize) -> Result<PlanarReply, Rejection> {
+    fn track_clear(
+        &mut self,
+        objects: &mut dyn MoverDrive,
+        k: usize,
+    ) -> Result<PlanarReply, Rejection> {
         self.require_disabled_track(k)?;
         if !self.tracks[k].order.is_empty() {
             return Err(reject(
@@ -456,7 +460,11 @@ impl TrackSystem {
         objects.done_now()
     }
 
-    fn track_enable(&mut self, objects: &mut Objects, k: usize) -> Result<PlanarReply, Rejection> {
+    fn track_enable(
+        &mut self,
+        objects: &mut dyn MoverDrive,
+        k: usize,
+    ) -> Result<PlanarReply, Rejection> {
         let who = self.track_who(k);
         let t = &self.tracks[k];
         if t.sm.state == PlanarState::Disabled {
@@ -466,7 +474,7 @@ impl TrackSystem {
                     format!("{who}: Enable without geometry"),
                 ));
             }
-            if objects.parts.len() > 1 && t.part_oid == 0 {
+            if objects.parts().len() > 1 && t.part_oid == 0 {
                 return Err(reject(
                     E_GEOMETRY_INVALID,
                     format!("{who}: PartOID missing with more than one part"),
@@ -475,12 +483,12 @@ impl TrackSystem {
             self.track_lies_on_part(objects, k)?;
         }
         let id = objects.new_id();
-        let timing = objects.timing;
+        let timing = objects.timing();
         let r = self.tracks[k]
             .sm
-            .enable(id, &timing, &who, &mut objects.pending)?;
+            .enable(id, &timing, &who, objects.events())?;
         ev(
-            &mut objects.pending,
+            objects.events(),
             id,
             if r == crate::state::Accepted::AlreadyThere {
                 CommandState::Done
@@ -492,13 +500,17 @@ impl TrackSystem {
     }
 
     /// The track's geometry lies completely on its part (§1.6, §5.4); no part: always.
-    pub(crate) fn track_lies_on_part(&self, objects: &Objects, k: usize) -> Result<(), Rejection> {
+    pub(crate) fn track_lies_on_part(
+        &self,
+        objects: &dyn MoverDrive,
+        k: usize,
+    ) -> Result<(), Rejection> {
         let who = self.track_who(k);
         let t = &self.tracks[k];
         let part = if t.part_oid != 0 {
-            objects.parts.iter().find(|p| p.oid == t.part_oid)
+            objects.parts().iter().find(|p| p.oid == t.part_oid)
         } else {
-            objects.parts.first()
+            objects.parts().first()
         };
         if let Some(p) = part {
             let (pcs, o) = p.origin();
@@ -526,10 +538,14 @@ impl TrackSystem {
         Ok(())
     }
 
-    fn track_disable(&mut self, objects: &mut Objects, k: usize) -> Result<PlanarReply, Rejection> {
+    fn track_disable(
+        &mut self,
+        objects: &mut dyn MoverDrive,
+        k: usize,
+    ) -> Result<PlanarReply, Rejection> {
         if !self.tracks[k].order.is_empty()
             || objects
-                .movers
+                .movers()
                 .iter()
                 .any(|m| m.joining.is_some_and(|j| j.0 == k) || m.leaving == Some(k))
         {
@@ -539,10 +555,10 @@ impl TrackSystem {
             ));
         }
         let id = objects.new_id();
-        let timing = objects.timing;
-        let r = self.tracks[k].sm.disable(id, &timing, &mut objects.pending);
+        let timing = objects.timing();
+        let r = self.tracks[k].sm.disable(id, &timing, objects.events());
         ev(
-            &mut objects.pending,
+            objects.events(),
             id,
             if r == crate::state::Accepted::AlreadyThere {
                 CommandState::Done
@@ -554,10 +570,10 @@ impl TrackSystem {
     }
 
     /// Track state machines (Enabling → Enabled etc., §2.1).
-    pub(crate) fn step_tracks(&mut self, objects: &mut Objects, dt: f64) {
+    pub(crate) fn step_tracks(&mut self, objects: &mut dyn MoverDrive, dt: f64) {
         for t in &mut self.tracks {
             if t.sm.advance(dt, true).is_some() {
-                t.sm.complete(&mut objects.pending);
+                t.sm.complete(objects.events());
             }
         }
     }
@@ -565,7 +581,7 @@ impl TrackSystem {
     /// Dispatch of the track commands and the on-track mover methods.
     pub(crate) fn track_command(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         cmd: PlanarCommand,
     ) -> Result<PlanarReply, Rejection> {
         use PlanarCommand as C;
@@ -606,7 +622,7 @@ impl TrackSystem {
 
     fn track_command_inner(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         cmd: PlanarCommand,
     ) -> Result<PlanarReply, Rejection> {
         use PlanarCommand as C;
@@ -730,7 +746,7 @@ impl TrackSystem {
                 if !enable && self.axes[a].ax.moving() {
                     // Power off stops at once (set point frozen).
                     self.axes[a].ax.freeze();
-                    let ev_ = &mut objects.pending;
+                    let ev_ = objects.events();
                     end(ev_, &mut self.axes[a].cmd, CommandState::Aborted);
                 }
                 self.axes[a].powered = enable;
@@ -904,10 +920,10 @@ impl TrackSystem {
                 let k = self.track(&track)?;
                 let who = self.track_who(k);
                 let id = objects.new_id();
-                let timing = objects.timing;
+                let timing = objects.timing();
                 let r = self.tracks[k].sm.reset(id, &timing, &who)?;
                 ev(
-                    &mut objects.pending,
+                    objects.events(),
                     id,
                     if r == crate::state::Accepted::AlreadyThere {
                         CommandState::Done
@@ -919,16 +935,15 @@ impl TrackSystem {
             }
             C::TrackAddToGroup { track, group } => {
                 let k = self.track(&track)?;
-                let g = objects
-                    .group_idx
-                    .get(&group)
-                    .copied()
-                    .ok_or_else(|| Rejection::unknown_object("group", &group))?;
+                let g = objects.group(&group)?;
                 let who = self.track_who(k);
-                if objects.groups[g].sm.state != PlanarState::Enabled {
+                if objects.groups()[g].sm.state != PlanarState::Enabled {
                     return Err(reject(
                         E_GROUP_NOT_READY,
-                        format!("{who}: group '{group}' is {:?}", objects.groups[g].sm.state),
+                        format!(
+                            "{who}: group '{group}' is {:?}",
+                            objects.groups()[g].sm.state
+                        ),
                     ));
                 }
                 if self.tracks[k].sm.state != PlanarState::Enabled {
@@ -942,7 +957,7 @@ impl TrackSystem {
                         E_GROUP_NOT_READY,
                         format!(
                             "{who}: already member of group '{}'",
-                            objects.groups[og].name
+                            objects.groups()[og].name
                         ),
                     ));
                 }
@@ -961,7 +976,7 @@ impl TrackSystem {
             C::TrackGetLength { track } => {
                 let k = self.track(&track)?;
                 let id = objects.new_id();
-                ev(&mut objects.pending, id, CommandState::Done);
+                ev(objects.events(), id, CommandState::Done);
                 reply(id, ReplyValue::Scalar(self.tracks[k].length()))
             }
             C::TrackGetArcLengthClosestTo { track, point } => {
@@ -976,13 +991,13 @@ impl TrackSystem {
                 let s = self.tracks[k].geo.closest(p);
                 // (`p` is already in stored coordinates: track_point subtracted the shift.)
                 let id = objects.new_id();
-                ev(&mut objects.pending, id, CommandState::Done);
+                ev(objects.events(), id, CommandState::Done);
                 reply(id, ReplyValue::Scalar(s))
             }
             C::TrackGetPositionAt { track, arc_length } => {
                 let p = self.track_position_at(objects, &track, arc_length)?;
                 let id = objects.new_id();
-                ev(&mut objects.pending, id, CommandState::Done);
+                ev(objects.events(), id, CommandState::Done);
                 reply(id, ReplyValue::Position(p))
             }
             C::TrackSetInitParameters {
@@ -1009,7 +1024,7 @@ impl TrackSystem {
             C::TrackGetPlanarObjectInfo { track } => {
                 let k = self.track(&track)?;
                 let id = objects.new_id();
-                ev(&mut objects.pending, id, CommandState::Done);
+                ev(objects.events(), id, CommandState::Done);
                 reply(
                     id,
                     ReplyValue::ObjectInfo(PlanarObjectInfo {
@@ -1026,50 +1041,18 @@ impl TrackSystem {
     }
 }
 
-impl TrackHooks for TrackSystem {
-    fn command(
-        &mut self,
-        objects: &mut Objects,
-        cmd: PlanarCommand,
-    ) -> Result<PlanarReply, Rejection> {
-        self.track_command(objects, cmd)
-    }
-
-    fn step_mover(
-        &mut self,
-        objects: &mut Objects,
-        i: usize,
-        dt: f64,
-        grid: &mut Grid,
-        cand: &mut Vec<u32>,
-    ) {
-        self.step_track_mover(objects, i, dt, grid, cand);
-    }
-
-    fn finish_idle(&mut self, objects: &mut Objects, i: usize) {
-        self.track_finish_idle(objects, i);
-    }
-
-    fn check_swept(
-        &mut self,
-        objects: &mut Objects,
-        i: usize,
-        swept: &crate::geometry::ConvexPolygon,
-    ) -> Result<(), Rejection> {
-        self.check_moving_tracks(objects, i, swept)
-    }
-
-    fn detach(&mut self, objects: &mut Objects, i: usize) {
-        self.detach_from_track(objects, i);
-    }
-
-    fn part_moved(&mut self, part_oid: u32, cs: u32) {
+/// What the objects reach through `TrackHooks` (wired in `crate::engine`) beyond the
+/// concept modules: part moves, injected errors, names.
+impl TrackSystem {
+    /// The part with `part_oid` moved into coordinate system `cs`: its tracks go with it (§1.6).
+    pub(crate) fn part_moved(&mut self, part_oid: u32, cs: u32) {
         for t in self.tracks.iter_mut().filter(|t| t.part_oid == part_oid) {
             t.cs = cs;
         }
     }
 
-    fn inject_error(
+    /// InjectError on the named track (§1.5 simulation).
+    pub(crate) fn inject_error(
         &mut self,
         name: &str,
         reaction: ErrorReaction,
@@ -1083,33 +1066,16 @@ impl TrackHooks for TrackSystem {
         Ok(())
     }
 
-    fn mover_on_track(
-        &self,
-        objects: &Objects,
-        m: &crate::objects::Mover,
-    ) -> Option<OnTrackSnapshot> {
-        self.on_track_snapshot(objects, m)
-    }
-
-    fn track_name(&self, k: usize) -> String {
+    pub(crate) fn track_name(&self, k: usize) -> String {
         self.tracks[k].name.clone()
     }
 
-    fn group_tracks(&self, g: usize) -> Vec<String> {
+    /// The names of the tracks that are members of group `g`.
+    pub(crate) fn group_tracks(&self, g: usize) -> Vec<String> {
         self.tracks
             .iter()
             .filter(|t| t.group == Some(g))
             .map(|t| t.name.clone())
             .collect()
-    }
-
-    fn snapshots(
-        &self,
-        objects: &Objects,
-    ) -> (
-        Vec<TrackSnapshot>,
-        Vec<crate::snapshot::VirtualAxisSnapshot>,
-    ) {
-        (self.track_snapshots(objects), self.axis_snapshots())
     }
 }

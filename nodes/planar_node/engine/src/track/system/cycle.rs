@@ -7,15 +7,15 @@ impl TrackSystem {
 
     /// Forward / backward limits of the reach of mover `i` (route coordinates): the
     /// neighbours' reach intervals minus / plus its gap (§5.6.3). No alloc, no lock.
-    pub(super) fn gap_limits(&self, objects: &Objects, i: usize) -> (f64, f64) {
-        let tm = objects.movers[i].track.as_ref().expect("on track");
+    pub(super) fn gap_limits(&self, objects: &dyn MoverDrive, i: usize) -> (f64, f64) {
+        let tm = objects.movers()[i].track.as_ref().expect("on track");
         let trk = &self.tracks[tm.track];
         let order = &trk.order;
         let n = order.len();
         let l = trk.length();
         let s = tm.s();
         let rel = |j: usize| {
-            let o = objects.movers[j].track.as_ref().expect("on track");
+            let o = objects.movers()[j].track.as_ref().expect("on track");
             let (lo, hi) = crate::track::gap::stop_interval(o.v, o.a, o.safe.0, o.safe.1);
             (o.s(), lo, hi)
         };
@@ -73,13 +73,13 @@ impl TrackSystem {
     /// its first cycle; None if only a committed stop is safe.
     pub(super) fn gap_plan(
         &self,
-        objects: &Objects,
+        objects: &dyn MoverDrive,
         i: usize,
         fwd: f64,
         bwd: f64,
         dt: f64,
     ) -> Option<Profile1> {
-        let tm = objects.movers[i].track.as_ref()?;
+        let tm = objects.movers()[i].track.as_ref()?;
         let TrackTarget::Position(x) = tm.target else {
             return None;
         };
@@ -113,14 +113,14 @@ impl TrackSystem {
     /// One cycle of an on-track mover: plan, gap control, route transitions, guard, commit.
     pub(crate) fn step_track_mover(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         dt: f64,
         grid: &mut Grid,
         cand: &mut Vec<u32>,
     ) {
         let (active, c_moving) = {
-            let m = &objects.movers[i];
+            let m = &objects.movers()[i];
             let tm = m.track.as_ref().expect("on track");
             (tm.active(), m.c.moving())
         };
@@ -132,7 +132,7 @@ impl TrackSystem {
         self.gear_step(objects, i, dt);
         // 1. Plan maintenance: gap checks and re-plans (§5.6.3).
         let needs_limits = {
-            let tm = objects.movers[i].track.as_ref().expect("on track");
+            let tm = objects.movers()[i].track.as_ref().expect("on track");
             (tm.plan.is_some() && !tm.braking)
                 || (matches!(tm.target, TrackTarget::Position(_))
                     && (tm.plan.is_none() || tm.limited))
@@ -141,7 +141,7 @@ impl TrackSystem {
             let (fwd, bwd) = self.gap_limits(objects, i);
             let mut replace: Option<(Option<Profile1>, bool)> = None;
             {
-                let tm = objects.movers[i].track.as_ref().expect("on track");
+                let tm = objects.movers()[i].track.as_ref().expect("on track");
                 if let Some((p, t)) = &tm.plan {
                     if !tm.braking {
                         let c = p.at((t + dt).min(p.duration()));
@@ -153,7 +153,7 @@ impl TrackSystem {
                         }
                     }
                 }
-                let tm = objects.movers[i].track.as_ref().expect("on track");
+                let tm = objects.movers()[i].track.as_ref().expect("on track");
                 if replace.is_none() {
                     if let TrackTarget::Position(x) = tm.target {
                         let lim = clamp_target(x, tm.r, fwd, bwd);
@@ -177,7 +177,7 @@ impl TrackSystem {
                     }
                 }
             }
-            let m = &mut objects.movers[i];
+            let m = objects.mover_mut(i);
             let tm = m.track.as_mut().expect("on track");
             tm.since_replan = tm.since_replan.saturating_add(1);
             match replace {
@@ -209,7 +209,7 @@ impl TrackSystem {
             }
         }
         // 2. Next state along the track.
-        let m = &objects.movers[i];
+        let m = &objects.movers()[i];
         let tm = m.track.as_ref().expect("on track");
         let (next, plan_done) = match &tm.plan {
             Some((p, t)) => {
@@ -269,7 +269,7 @@ impl TrackSystem {
             m.c.peek(dt)
         };
         // 3. The no-overlap guard against everything that is not gap-controlled with us.
-        if !objects.guard_full {
+        if !objects.guard_full() {
             // All movers are on this one track: gap control separates them; keep a cheap,
             // conservative envelope (square of the diagonal grown by the maximum-dynamics stop
             // distance) for the cycle in which a mover leaves the track.
@@ -283,7 +283,7 @@ impl TrackSystem {
             let c = xy_next.pos;
             let env =
                 crate::geometry::ConvexPolygon::aabb_box(c - V2::new(h, h), c + V2::new(h, h));
-            objects.movers[i].envelope = env;
+            objects.mover_mut(i).envelope = env;
         } else if !m.guard_stop {
             let o = &m.offset;
             let shown = Kin2 {
@@ -291,21 +291,21 @@ impl TrackSystem {
                 vel: xy_next.vel,
                 acc: xy_next.acc,
             };
-            let env = Objects::envelope_of(m, &shown, &c_next);
+            let env = m.stop_envelope(&shown, &c_next);
             grid.query(m.cs, &env, cand);
             let my_track = k;
             let blocker = cand.iter().map(|&j| j as usize).find(|&j| {
-                if j == i || objects.movers[j].cs != m.cs {
+                if j == i || objects.movers()[j].cs != m.cs {
                     return false;
                 }
-                if let Some(o) = &objects.movers[j].track {
+                if let Some(o) = &objects.movers()[j].track {
                     let t = &self.tracks[my_track];
                     if o.track == my_track || t.next.contains(&o.track) || t.prev.contains(&o.track)
                     {
                         return false;
                     }
                 }
-                env.intersects(&objects.movers[j].envelope)
+                env.intersects(&objects.movers()[j].envelope)
             });
             if let Some(j) = blocker {
                 self.track_guard_fire(objects, i, j);
@@ -313,11 +313,10 @@ impl TrackSystem {
                 return;
             }
             grid.insert(m.cs, i as u32, &env);
-            objects.movers[i].envelope = env;
+            objects.mover_mut(i).envelope = env;
         }
         // 4. Commit.
-        let ev_ = &mut objects.pending;
-        let m = &mut objects.movers[i];
+        let (m, ev_) = objects.mover_and_events(i);
         let tm = m.track.as_mut().expect("on track");
         tm.r = next.pos;
         tm.v = next.vel;
@@ -372,13 +371,13 @@ impl TrackSystem {
 
     /// The guard refuses the next set point of on-track mover `i` because of mover `j`:
     /// the command fails with E_COLLISION and the mover stops along the track (max dynamics).
-    pub(super) fn track_guard_fire(&mut self, objects: &mut Objects, i: usize, j: usize) {
-        objects.last_object_info = PlanarObjectInfo {
+    pub(super) fn track_guard_fire(&mut self, objects: &mut dyn MoverDrive, i: usize, j: usize) {
+        let id = objects.movers()[j].oid;
+        objects.set_blocking_object(PlanarObjectInfo {
             object_type: PlanarObjectType::Mover,
-            id: objects.movers[j].oid,
-        };
-        let ev_ = &mut objects.pending;
-        let m = &mut objects.movers[i];
+            id,
+        });
+        let (m, ev_) = objects.mover_and_events(i);
         end(ev_, &mut m.xy_cmd, CommandState::Error(E_COLLISION));
         let mx = m.cfg.max_dynamics;
         if let Some(tm) = &mut m.track {

@@ -14,7 +14,7 @@ impl TrackSystem {
 
     pub(super) fn axis_move(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         a: usize,
         who: &str,
         plan: impl FnOnce(
@@ -26,7 +26,7 @@ impl TrackSystem {
         }
         let p = plan(&self.axes[a].ax).map_err(|e| traj_err(who, e))?;
         let id = objects.new_id();
-        let ev_ = &mut objects.pending;
+        let ev_ = objects.events();
         let x = &mut self.axes[a];
         end(ev_, &mut x.cmd, CommandState::Aborted);
         x.ax.start(p);
@@ -36,10 +36,10 @@ impl TrackSystem {
     }
 
     /// Advances the virtual axes (before the movers, so slaves see the new master state).
-    pub(crate) fn step_axes(&mut self, objects: &mut Objects, dt: f64) {
+    pub(crate) fn step_axes(&mut self, objects: &mut dyn MoverDrive, dt: f64) {
         for x in &mut self.axes {
             if x.ax.advance(dt) {
-                end(&mut objects.pending, &mut x.cmd, CommandState::Done);
+                end(objects.events(), &mut x.cmd, CommandState::Done);
             }
         }
     }
@@ -66,14 +66,14 @@ impl TrackSystem {
     /// cycle, movers after it not yet.
     pub(super) fn master_motion(
         &self,
-        objects: &Objects,
+        objects: &dyn MoverDrive,
         g: &GearIn,
         i: usize,
         dt: f64,
     ) -> Option<(Profile1, f64)> {
         let ((p, t), advanced) = match g.master {
             Master::Mover(j) => {
-                let mt = objects.movers[j].track.as_ref()?;
+                let mt = objects.movers()[j].track.as_ref()?;
                 let motion = match &mt.plan {
                     Some((mp, t)) => (*mp, *t),
                     None => (Profile1::hold(mt.state()), 0.0),
@@ -122,7 +122,7 @@ impl TrackSystem {
     #[allow(clippy::too_many_arguments)]
     pub(super) fn gear_in(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         master: Master,
         trail: Vec<usize>,
@@ -131,7 +131,7 @@ impl TrackSystem {
         constraint: DynamicConstraint,
         o: crate::track::GearInPosOnTrackWithMasterMoverOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", objects.movers[i].name);
+        let who = format!("mover '{}'", objects.movers()[i].name);
         finite(&who, "master_sync_position", m_sync)?;
         finite(&who, "slave_sync_position", s_sync)?;
         for (f, v) in [
@@ -163,7 +163,7 @@ impl TrackSystem {
                         format!("{who}: master = slave"),
                     ));
                 }
-                let mm = &objects.movers[j];
+                let mm = &objects.movers()[j];
                 if mm.sm.state != PlanarState::Enabled {
                     return Err(reject(
                         E_INVALID_STATE,
@@ -180,7 +180,7 @@ impl TrackSystem {
             }
             Master::Axis(_) => None,
         };
-        let tm = objects.movers[i].track.as_ref().expect("OnTrack");
+        let tm = objects.movers()[i].track.as_ref().expect("OnTrack");
         let cur = tm.track;
         let mut trail = trail;
         if trail.is_empty() {
@@ -276,11 +276,10 @@ impl TrackSystem {
             let hi = tm.base + trail.iter().map(|&k| self.tracks[k].length()).sum::<f64>();
             (tm.base, hi)
         };
-        let m = &objects.movers[i];
+        let m = &objects.movers()[i];
         let (dyn_, reduced) = m.cfg.xy_dynamics(&constraint, &who)?;
         let id = objects.new_id();
-        let ev_ = &mut objects.pending;
-        let m = &mut objects.movers[i];
+        let (m, ev_) = objects.mover_and_events(i);
         end(ev_, &mut m.xy_cmd, CommandState::Aborted);
         end(ev_, &mut m.halt_cmd, CommandState::Aborted);
         let tm = m.track.as_mut().expect("OnTrack");
@@ -313,8 +312,8 @@ impl TrackSystem {
     /// One cycle of a gear-in: follow the master's path (followMover), compute the target
     /// `s*`, `inSync`, and a fresh time-optimal chase plan to (s* + ṁ·T, ṁ); brake exactly to
     /// the trail boundary when the chase would pass it (§5.8.1).
-    pub(super) fn gear_step(&mut self, objects: &mut Objects, i: usize, dt: f64) {
-        let Some(tm) = objects.movers[i].track.as_ref() else {
+    pub(super) fn gear_step(&mut self, objects: &mut dyn MoverDrive, i: usize, dt: f64) {
+        let Some(tm) = objects.movers()[i].track.as_ref() else {
             return;
         };
         let Some(g) = tm.gear.as_ref() else {
@@ -325,8 +324,7 @@ impl TrackSystem {
         }
         let Some((mp, t0)) = self.master_motion(objects, g, i, dt) else {
             // The master left its track: the coupling ends.
-            let ev_ = &mut objects.pending;
-            let m = &mut objects.movers[i];
+            let (m, ev_) = objects.mover_and_events(i);
             end(ev_, &mut m.xy_cmd, CommandState::Error(E_OBJECT_ERROR));
             let d = m.cfg.default_dynamics;
             if let Some(t) = &mut m.track {
@@ -337,7 +335,10 @@ impl TrackSystem {
         // followMover: the slave's way grows with the master's path.
         let mut extend: Vec<usize> = Vec::new();
         if let (true, Master::Mover(j)) = (g.follow, g.master) {
-            let mt = objects.movers[j].track.as_ref().expect("master on a track");
+            let mt = objects.movers()[j]
+                .track
+                .as_ref()
+                .expect("master on a track");
             let mut last = *tm.route.last().unwrap_or(&tm.track);
             for k in std::iter::once(mt.track).chain(mt.route.iter().copied()) {
                 if k != tm.track
@@ -447,7 +448,7 @@ impl TrackSystem {
             }
         }
         let lens: f64 = extend.iter().map(|&k| self.tracks[k].length()).sum();
-        let m = &mut objects.movers[i];
+        let m = objects.mover_mut(i);
         let tm = m.track.as_mut().expect("on track");
         tm.route.extend(extend);
         tm.plan = p;

@@ -7,13 +7,13 @@ impl TrackSystem {
 
     pub(super) fn join_track(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         k: usize,
         constraint: DynamicConstraint,
         options: MoveToPositionOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", objects.movers[i].name);
+        let who = format!("mover '{}'", objects.movers()[i].name);
         objects.require_enabled(i, "JoinTrack")?;
         objects.require_mode(i, CommandKind::JoinTrack, "JoinTrack")?;
         let mode = self.require_track_ready(objects, k, &who)?;
@@ -26,7 +26,7 @@ impl TrackSystem {
                 ),
             ));
         }
-        let m = &objects.movers[i];
+        let m = &objects.movers()[i];
         let t = &self.tracks[k];
         if t.cs != m.cs {
             return Err(reject(
@@ -45,8 +45,8 @@ impl TrackSystem {
         };
         // Footprint at the join point against movers on or joining the track (§3.2).
         let fp = crate::geometry::ConvexPolygon::rect(pose.p, m.cfg.width, m.cfg.height, c_end);
-        for j in 0..objects.movers.len() {
-            let o = &objects.movers[j];
+        for j in 0..objects.movers().len() {
+            let o = &objects.movers()[j];
             if j == i {
                 continue;
             }
@@ -74,7 +74,7 @@ impl TrackSystem {
                 }
             }
         }
-        let refid = if objects.coordinate_systems.len() == 1 && objects.parts.is_empty() {
+        let refid = if objects.coordinate_system_count() == 1 && objects.parts().is_empty() {
             0
         } else {
             t.cs
@@ -86,7 +86,7 @@ impl TrackSystem {
             constraint,
             options,
         )?;
-        let m = &mut objects.movers[i];
+        let m = objects.mover_mut(i);
         m.mode = CommandMode::JoiningTrack;
         m.joining = Some((k, s_j, options.use_orientation));
         Ok(r)
@@ -94,17 +94,17 @@ impl TrackSystem {
 
     pub(super) fn leave_track(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         target: PositionXYC,
         constraint: DynamicConstraint,
         options: MoveToPositionOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", objects.movers[i].name);
+        let who = format!("mover '{}'", objects.movers()[i].name);
         target.check_finite(&who, "target_position")?;
         objects.require_enabled(i, "LeaveTrack")?;
         objects.require_mode(i, CommandKind::LeaveTrack, "LeaveTrack")?;
-        let Some(k) = objects.movers[i].track.as_ref().map(|t| t.track) else {
+        let Some(k) = objects.movers()[i].track.as_ref().map(|t| t.track) else {
             return Err(reject(
                 E_INVALID_COMMAND_MODE,
                 format!("{who}: not on a track"),
@@ -120,21 +120,21 @@ impl TrackSystem {
             ));
         }
         // The track is left at the start of the motion (§5.5): plan as a free move.
-        let saved = objects.movers[i].track.take();
-        let mode = objects.movers[i].mode;
-        objects.movers[i].mode = CommandMode::FreeMovement;
+        let saved = objects.mover_mut(i).track.take();
+        let mode = objects.movers()[i].mode;
+        objects.mover_mut(i).mode = CommandMode::FreeMovement;
         match objects.move_to_position(self, i, target, constraint, options) {
             Ok(r) => {
-                objects.movers[i].track = saved;
+                objects.mover_mut(i).track = saved;
                 self.detach_from_track(objects, i);
-                let m = &mut objects.movers[i];
+                let m = objects.mover_mut(i);
                 m.mode = CommandMode::LeavingTrack;
                 m.leaving = Some(k);
                 m.c_mode = CCoordinateMode::Independent;
                 Ok(r)
             }
             Err(e) => {
-                let m = &mut objects.movers[i];
+                let m = objects.mover_mut(i);
                 m.track = saved;
                 m.mode = mode;
                 Err(e)
@@ -143,8 +143,8 @@ impl TrackSystem {
     }
 
     /// Removes mover `i` from its track (Disable, LeaveTrack).
-    pub(crate) fn detach_from_track(&mut self, objects: &mut Objects, i: usize) {
-        let m = &mut objects.movers[i];
+    pub(crate) fn detach_from_track(&mut self, objects: &mut dyn MoverDrive, i: usize) {
+        let m = objects.mover_mut(i);
         m.joining = None;
         if let Some(t) = m.track.take() {
             let order = &mut self.tracks[t.track].order;
@@ -153,17 +153,19 @@ impl TrackSystem {
         }
     }
 
-    pub(super) fn renumber(&mut self, objects: &mut Objects, k: usize) {
+    pub(super) fn renumber(&mut self, objects: &mut dyn MoverDrive, k: usize) {
         for (slot, &j) in self.tracks[k].order.iter().enumerate() {
-            if let Some(t) = &mut objects.movers[j].track {
+            if let Some(t) = &mut objects.mover_mut(j).track {
                 t.slot = slot;
             }
         }
     }
 
     /// Inserts mover `i` (already carrying its TrackMotion on `k`) into the track order.
-    pub(super) fn insert_into_order(&mut self, objects: &mut Objects, i: usize, k: usize) {
-        let s_of = |e: &Objects, j: usize| e.movers[j].track.as_ref().map(|t| t.s()).unwrap_or(0.0);
+    pub(super) fn insert_into_order(&mut self, objects: &mut dyn MoverDrive, i: usize, k: usize) {
+        let s_of = |e: &dyn MoverDrive, j: usize| {
+            e.movers()[j].track.as_ref().map(|t| t.s()).unwrap_or(0.0)
+        };
         let t = &self.tracks[k];
         let s = s_of(objects, i);
         let n = t.order.len();
@@ -187,16 +189,16 @@ impl TrackSystem {
     }
 
     /// Bookkeeping of the track modes when axes come to rest (called by `finish_idle`).
-    pub(crate) fn track_finish_idle(&mut self, objects: &mut Objects, i: usize) {
-        let m = &objects.movers[i];
+    pub(crate) fn track_finish_idle(&mut self, objects: &mut dyn MoverDrive, i: usize) {
+        let m = &objects.movers()[i];
         let xy_rest = m.path.is_none() && !m.xy.moving();
         if m.mode == CommandMode::JoiningTrack && xy_rest && m.xy_cmd.is_none() {
             let Some((k, s_j, dependent)) = m.joining else {
-                objects.movers[i].mode = CommandMode::FreeMovement;
+                objects.mover_mut(i).mode = CommandMode::FreeMovement;
                 return;
             };
             let p = self.tracks[k].geo.pose_at(s_j).p + self.track_shift_at(objects, k, 0);
-            let m = &mut objects.movers[i];
+            let m = objects.mover_mut(i);
             m.joining = None;
             if (m.xy.pos - p).norm() <= 1e-6 {
                 let mut tm = TrackMotion::new(k, s_j, m.cfg.default_dynamics);
@@ -216,7 +218,7 @@ impl TrackSystem {
             return;
         }
         if m.mode == CommandMode::LeavingTrack && xy_rest && m.xy_cmd.is_none() {
-            let m = &mut objects.movers[i];
+            let m = objects.mover_mut(i);
             m.leaving = None;
             m.mode = if in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max) {
                 CommandMode::FreeMovement
@@ -225,17 +227,17 @@ impl TrackSystem {
             };
             return;
         }
-        let Some(tm) = &objects.movers[i].track else {
+        let Some(tm) = &objects.movers()[i].track else {
             return;
         };
         let k = tm.track;
         let s = tm.s();
         let adopt = tm.adopt;
-        let m = &objects.movers[i];
+        let m = &objects.movers()[i];
         let c_rest = !m.c.moving() && m.c_cmd.is_none();
         if adopt && c_rest {
             let h = self.tracks[k].geo.pose_at(s).heading_deg();
-            let m = &mut objects.movers[i];
+            let m = objects.mover_mut(i);
             let c = m.c.pos;
             if (c - nearest_equivalent(h, c)).abs() <= 1e-6 {
                 m.c_mode = CCoordinateMode::Dependent;
@@ -244,7 +246,7 @@ impl TrackSystem {
                 t.adopt = false;
             }
         }
-        let m = &mut objects.movers[i];
+        let m = objects.mover_mut(i);
         if c_rest
             && m.mode == CommandMode::CRotationOnTrack
             && in_c_window(m.c_out(), m.cfg.c_min, m.cfg.c_max)
@@ -255,7 +257,7 @@ impl TrackSystem {
 
     pub(super) fn adopt_track_orientation(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         constraint: DynamicConstraint,
         options: crate::track::AdoptTrackOrientationOptions,
@@ -266,10 +268,10 @@ impl TrackSystem {
             CommandKind::AdoptTrackOrientation,
             "AdoptTrackOrientation",
         )?;
-        let tm = objects.movers[i].track.as_ref().ok_or_else(|| {
+        let tm = objects.movers()[i].track.as_ref().ok_or_else(|| {
             reject(
                 E_INVALID_COMMAND_MODE,
-                format!("mover '{}': not on a track", objects.movers[i].name),
+                format!("mover '{}': not on a track", objects.movers()[i].name),
             )
         })?;
         let h = self.tracks[tm.track].geo.pose_at(tm.s()).heading_deg();
@@ -283,7 +285,7 @@ impl TrackSystem {
                 direction: options.direction,
             },
         )?;
-        if let Some(t) = &mut objects.movers[i].track {
+        if let Some(t) = &mut objects.mover_mut(i).track {
             t.adopt = true;
         }
         Ok(r)

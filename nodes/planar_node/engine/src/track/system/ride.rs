@@ -7,14 +7,14 @@ impl TrackSystem {
 
     pub(super) fn move_on_track(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         target_track: Option<usize>,
         target: f64,
         constraint: DynamicConstraint,
         options: crate::track::MoveOnTrackOptions,
     ) -> Result<PlanarReply, Rejection> {
-        let who = format!("mover '{}'", objects.movers[i].name);
+        let who = format!("mover '{}'", objects.movers()[i].name);
         finite(&who, "target_position", target)?;
         finite(&who, "options.gap", options.gap)?;
         finite(&who, "options.modulo_tolerance", options.modulo_tolerance)?;
@@ -44,7 +44,7 @@ impl TrackSystem {
                 format!("{who}: modulo_tolerance not allowed with NonModulo"),
             ));
         }
-        let m = &objects.movers[i];
+        let m = &objects.movers()[i];
         let Some(tm) = m.track.as_ref() else {
             return Err(reject(
                 E_INVALID_COMMAND_MODE,
@@ -155,12 +155,11 @@ impl TrackSystem {
         let mut on_route = vec![cur];
         on_route.extend(route.iter().copied());
         self.check_track_tubes_free(objects, i, &on_route)?;
-        let tm = objects.movers[i].track.as_ref().expect("on track");
+        let tm = objects.movers()[i].track.as_ref().expect("on track");
         let prof = Profile1::to_position(tm.state(), r_target, 0.0, &limits_of(&dyn_))
             .map_err(|e| traj_err(&who, e))?;
         let id = objects.new_id();
-        let ev_ = &mut objects.pending;
-        let m = &mut objects.movers[i];
+        let (m, ev_) = objects.mover_and_events(i);
         end(ev_, &mut m.xy_cmd, CommandState::Aborted);
         end(ev_, &mut m.halt_cmd, CommandState::Aborted);
         let tm = m.track.as_mut().expect("on track");
@@ -182,7 +181,12 @@ impl TrackSystem {
     /// Shortest route (by length of the tracks passed) from the end of `from` to `to` over
     /// traversable links between Enabled tracks: the tracks after `from`, ending with `to`
     /// (§5.6.5). The start track is never passed again (that would be a cycle).
-    pub(super) fn route(&self, objects: &Objects, from: usize, to: usize) -> Option<Vec<usize>> {
+    pub(super) fn route(
+        &self,
+        objects: &dyn MoverDrive,
+        from: usize,
+        to: usize,
+    ) -> Option<Vec<usize>> {
         let n = self.tracks.len();
         let mut dist = vec![f64::INFINITY; n];
         let mut prev = vec![usize::MAX; n];
@@ -232,27 +236,27 @@ impl TrackSystem {
 
     // ------------------------------------------------------------------ part positions (§5.12)
 
-    pub(super) fn track_part(&self, objects: &Objects, k: usize) -> Option<usize> {
+    pub(super) fn track_part(&self, objects: &dyn MoverDrive, k: usize) -> Option<usize> {
         let oid = self.tracks[k].part_oid;
         if oid == 0 {
             return None;
         }
-        objects.parts.iter().position(|p| p.oid == oid)
+        objects.parts().iter().position(|p| p.oid == oid)
     }
 
     /// Position index of track `k`'s part for a link (0 = the part's current index).
-    pub(super) fn track_part_index(&self, objects: &Objects, k: usize, index: u32) -> u32 {
+    pub(super) fn track_part_index(&self, objects: &dyn MoverDrive, k: usize, index: u32) -> u32 {
         match (index, self.track_part(objects, k)) {
-            (0, Some(p)) => objects.parts[p].index,
+            (0, Some(p)) => objects.parts()[p].index,
             (i, _) => i,
         }
     }
 
     /// Shift of track `k`'s stored geometry with its part at `index` (0 = current) \[mm\].
-    pub(crate) fn track_shift_at(&self, objects: &Objects, k: usize, index: u32) -> V2 {
+    pub(crate) fn track_shift_at(&self, objects: &dyn MoverDrive, k: usize, index: u32) -> V2 {
         match self.track_part(objects, k) {
             Some(p) => {
-                let part = &objects.parts[p];
+                let part = &objects.parts()[p];
                 let i = if index == 0 { part.index } else { index };
                 part.positions
                     .get(&i)
@@ -266,7 +270,7 @@ impl TrackSystem {
     /// True if the link `from` end → `to` start is traversable now (§1.6, §5.12): links made
     /// only for specified part positions need exactly those positions; the others need the
     /// two track ends to meet with the parts where they are.
-    pub(crate) fn traversable(&self, objects: &Objects, from: usize, to: usize) -> bool {
+    pub(crate) fn traversable(&self, objects: &dyn MoverDrive, from: usize, to: usize) -> bool {
         if let Some(&(_, fi, ti)) = self.tracks[from].link_only.iter().find(|x| x.0 == to) {
             return self.track_part_index(objects, from, 0) == fi
                 && self.track_part_index(objects, to, 0) == ti;

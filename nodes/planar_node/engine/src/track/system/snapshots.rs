@@ -7,8 +7,8 @@ impl TrackSystem {
 
     pub(crate) fn on_track_snapshot(
         &self,
-        objects: &Objects,
-        m: &crate::objects::Mover,
+        objects: &dyn MoverDrive,
+        m: &Mover,
     ) -> Option<OnTrackSnapshot> {
         let tm = m.track.as_ref()?;
         let t = &self.tracks[tm.track];
@@ -33,13 +33,13 @@ impl TrackSystem {
             waiting: tm.limited || (tm.plan.is_none() && tm.target != TrackTarget::None),
             in_sync: tm.gear.as_ref().is_some_and(|g| g.in_sync),
             gear_master: tm.gear.as_ref().map(|g| match g.master {
-                Master::Mover(j) => objects.movers[j].name.clone(),
+                Master::Mover(j) => objects.movers()[j].name.clone(),
                 Master::Axis(a) => self.axes[a].name.clone(),
             }),
         })
     }
 
-    pub(crate) fn track_snapshots(&self, objects: &Objects) -> Vec<TrackSnapshot> {
+    pub(crate) fn track_snapshots(&self, objects: &dyn MoverDrive) -> Vec<TrackSnapshot> {
         let modes = self.track_modes(objects);
         self.tracks
             .iter()
@@ -55,7 +55,7 @@ impl TrackSystem {
                 movers: t
                     .order
                     .iter()
-                    .map(|&j| objects.movers[j].name.clone())
+                    .map(|&j| objects.movers()[j].name.clone())
                     .collect(),
                 previous_tracks: t
                     .prev

@@ -94,12 +94,12 @@ impl TrackSystem {
     /// (on an incoming track of `w`, outside its range): a mover reaching into the range of a
     /// track end (unless it is ahead of `i` on the same track and takes the same branch), or a
     /// mover inside the range of a track start that is not `i`'s branch (§5.6.4). No alloc.
-    pub(super) fn switch_occupied(&self, objects: &Objects, i: usize, w: usize) -> bool {
-        let tm = objects.movers[i].track.as_ref().expect("on track");
+    pub(super) fn switch_occupied(&self, objects: &dyn MoverDrive, i: usize, w: usize) -> bool {
+        let tm = objects.movers()[i].track.as_ref().expect("on track");
         let my_branch = tm.route.first().copied();
         let sw = &self.switches[w];
         let reach_of = |j: usize| {
-            let o = objects.movers[j].track.as_ref().expect("on track");
+            let o = objects.movers()[j].track.as_ref().expect("on track");
             let (lo, hi) = crate::track::gap::stop_interval(o.v, o.a, o.safe.0, o.safe.1);
             (o.s() + lo, o.s() + hi, o.route.first().copied())
         };
@@ -144,19 +144,19 @@ impl TrackSystem {
     /// member track of the same group (other than the mover's own) covers any of it.
     pub(crate) fn check_moving_tracks(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         swept: &crate::geometry::ConvexPolygon,
     ) -> Result<(), Rejection> {
-        let Some(g) = objects.movers[i].group else {
+        let Some(g) = objects.movers()[i].group else {
             return Ok(());
         };
         if !self.tracks.iter().any(|t| t.group == Some(g)) {
             return Ok(());
         }
-        let own = objects.movers[i].track.as_ref().map(|t| t.track);
+        let own = objects.movers()[i].track.as_ref().map(|t| t.track);
         let modes = self.track_modes(objects);
-        let cs = objects.movers[i].cs;
+        let cs = objects.movers()[i].cs;
         let blocker = self
             .tracks
             .iter()
@@ -171,7 +171,7 @@ impl TrackSystem {
             });
         if let Some((_, (t, _))) = blocker {
             let (oid, name) = (t.oid, t.name.clone());
-            let who = format!("mover '{}'", objects.movers[i].name);
+            let who = format!("mover '{}'", objects.movers()[i].name);
             return Err(objects.collision(
                 &who,
                 PlanarObjectInfo {
@@ -188,7 +188,7 @@ impl TrackSystem {
     /// the areas of other members of the group (movers on the track excluded, §5.11).
     pub(super) fn check_track_tubes_free(
         &mut self,
-        objects: &mut Objects,
+        objects: &mut dyn MoverDrive,
         i: usize,
         tracks: &[usize],
     ) -> Result<(), Rejection> {
@@ -200,9 +200,9 @@ impl TrackSystem {
             if modes[k] == TrackOperationMode::Moving {
                 continue;
             }
-            let members = objects.groups[g].movers.clone();
+            let members = objects.groups()[g].movers.clone();
             for j in members {
-                let o = &objects.movers[j];
+                let o = &objects.movers()[j];
                 if j == i
                     || o.cs != self.tracks[k].cs
                     || o.track.as_ref().is_some_and(|t| tracks.contains(&t.track))
@@ -212,7 +212,7 @@ impl TrackSystem {
                 let area = objects.reservation(j);
                 if self.tracks[k].tube.iter().any(|q| q.intersects(&area)) {
                     let (oid, name) = (o.oid, o.name.clone());
-                    let who = format!("mover '{}'", objects.movers[i].name);
+                    let who = format!("mover '{}'", objects.movers()[i].name);
                     return Err(objects.collision(
                         &who,
                         PlanarObjectInfo {
