@@ -467,3 +467,4 @@ impl Engine for AxisEngine {
 
 // ---- The composition's glue to the Part 4 groups.
 mod groups;
+mod platform;

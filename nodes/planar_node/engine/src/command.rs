@@ -1,13 +1,11 @@
 //! The command enum: one variant per method of §3 (manual parameters in snake_case, objects
 //! addressed by their configured names). Feedback objects are the returned [`motion_core::CmdId`].
 
-use crate::track::{
-    AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,
-    MoveOnTrackOptions, TrackLinkAdvancedOptions,
-};
 use crate::types::{
-    DynamicConstraint, ErrorReaction, ExternalSetpointGenerationOptions, MoveCOptions,
-    MoveToPositionOptions, MoverVector, PositionXYC,
+    AdoptTrackOrientationOptions, DynamicConstraint, ErrorReaction,
+    ExternalSetpointGenerationOptions, GearInPosOnTrackOptions,
+    GearInPosOnTrackWithMasterMoverOptions, MoveCOptions, MoveOnTrackOptions,
+    MoveToPositionOptions, MoverVector, PositionXYC, TrackLinkAdvancedOptions,
 };
 use serde::{Deserialize, Serialize};
 

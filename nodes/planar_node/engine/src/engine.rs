@@ -1,19 +1,17 @@
 //! [`PlanarEngine`]: the objects ([`Objects`]) and the track subsystem ([`TrackSystem`]),
 //! each with its own state, composed into the commands and the cycle's stages (xplanar.md
-//! §1–§3, §5). The no-overlap guard ([`crate::guard`]) runs on every cycle.
+//! §1–§3, §5). The no-overlap guard ([`crate::guard`]) runs on every cycle. The two layers
+//! reach each other through one trait each, wired in `wiring`.
 
 use crate::command::PlanarCommand;
 use crate::errors::error_name;
-use crate::geometry::ConvexPolygon;
-use crate::guard::Grid;
-use crate::objects::{Mover, Objects, TrackHooks};
-use crate::snapshot::{
-    OnTrackSnapshot, PlanarReply, PlanarSnapshot, TrackSnapshot, VirtualAxisSnapshot,
-};
-use crate::state::Timing;
+use crate::objects::Objects;
+use crate::snapshot::{PlanarReply, PlanarSnapshot};
 use crate::track::TrackSystem;
-use crate::types::{ErrorReaction, PlanarObjectInfo, PositionXYC};
+use crate::types::{PlanarObjectInfo, PositionXYC};
 use motion_core::{CmdId, CommandEvent, Engine, ErrorId, Rejection, Tick};
+
+mod wiring;
 
 /// The XPlanar engine: the objects and the track subsystem, each with its own state.
 pub struct PlanarEngine {
@@ -120,76 +118,5 @@ impl Engine for PlanarEngine {
 
     fn cancel(&mut self, id: CmdId) -> Result<(), Rejection> {
         self.objects.cancel(&mut self.tracks, id)
-    }
-}
-
-/// The objects reach the track subsystem through their trait `TrackHooks`; the tracks reach
-/// the movers through theirs (`MoverDrive`, implemented by `Objects`). Wired here, where both
-/// are known.
-impl TrackHooks for TrackSystem {
-    fn command(
-        &mut self,
-        objects: &mut Objects,
-        cmd: PlanarCommand,
-    ) -> Result<PlanarReply, Rejection> {
-        self.track_command(objects, cmd)
-    }
-
-    fn step_mover(
-        &mut self,
-        objects: &mut Objects,
-        i: usize,
-        dt: f64,
-        grid: &mut Grid,
-        cand: &mut Vec<u32>,
-    ) {
-        self.step_track_mover(objects, i, dt, grid, cand);
-    }
-
-    fn finish_idle(&mut self, objects: &mut Objects, i: usize) {
-        self.track_finish_idle(objects, i);
-    }
-
-    fn check_swept(
-        &mut self,
-        objects: &mut Objects,
-        i: usize,
-        swept: &ConvexPolygon,
-    ) -> Result<(), Rejection> {
-        self.check_moving_tracks(objects, i, swept)
-    }
-
-    fn detach(&mut self, objects: &mut Objects, i: usize) {
-        self.detach_from_track(objects, i);
-    }
-
-    fn part_moved(&mut self, part_oid: u32, cs: u32) {
-        TrackSystem::part_moved(self, part_oid, cs);
-    }
-
-    fn inject_error(
-        &mut self,
-        name: &str,
-        reaction: ErrorReaction,
-        timing: &Timing,
-        events: &mut Vec<CommandEvent>,
-    ) -> Result<(), Rejection> {
-        TrackSystem::inject_error(self, name, reaction, timing, events)
-    }
-
-    fn mover_on_track(&self, objects: &Objects, m: &Mover) -> Option<OnTrackSnapshot> {
-        self.on_track_snapshot(objects, m)
-    }
-
-    fn track_name(&self, k: usize) -> String {
-        TrackSystem::track_name(self, k)
-    }
-
-    fn group_tracks(&self, g: usize) -> Vec<String> {
-        TrackSystem::group_tracks(self, g)
-    }
-
-    fn snapshots(&self, objects: &Objects) -> (Vec<TrackSnapshot>, Vec<VirtualAxisSnapshot>) {
-        (self.track_snapshots(objects), self.axis_snapshots())
     }
 }

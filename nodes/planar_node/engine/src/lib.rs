@@ -42,6 +42,7 @@ pub mod geometry;
 mod guard;
 pub mod motion;
 mod objects;
+mod on_track;
 pub mod snapshot;
 mod state;
 pub mod track;
@@ -63,8 +64,4 @@ pub use snapshot::{
 };
 pub use state::Timing;
 pub use track::geometry::{TrackGeometry, TrackPose};
-pub use track::{
-    AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,
-    MoveOnTrackOptions, SyncDirections, TrackLinkAdvancedOptions, TrackOperationMode, DEFAULT_GAP,
-};
 pub use types::*;

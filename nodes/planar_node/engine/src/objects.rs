@@ -7,8 +7,8 @@
 //!
 //! Children by concept: `records` (the object records), `basics` (construction, lookups,
 //! admission checks, collisions, snapshots), `dispatch`, `environment`, `movers` (the
-//! commands), `cycle` (one cycle of the plane), `track_hooks` (their way to the tracks),
-//! `mover_drive` (the tracks' way to the movers).
+//! commands), `cycle` (one cycle of the plane), `track_hooks` (their way to the tracks;
+//! the tracks' way to the movers, `MoverDrive`, is implemented in `crate::engine`).
 
 use crate::admission::{admissible, AdmissionContext, CommandKind};
 use crate::command::{ObjectKind, PlanarCommand};
@@ -92,7 +92,6 @@ mod basics;
 mod cycle;
 mod dispatch;
 mod environment;
-mod mover_drive;
 mod movers;
 mod records;
 mod track_hooks;

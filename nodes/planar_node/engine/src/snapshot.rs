@@ -1,6 +1,6 @@
 //! The published state (xplanar.md §3.1 cyclic status, §4.4 mover blocks).
 
-use crate::track::TrackOperationMode;
+use crate::types::TrackOperationMode;
 use crate::types::{
     CCoordinateMode, CommandMode, ErrorReaction, ExternalSetpointMode, MoverVector,
     PlanarObjectInfo, PlanarState, PositionXYC,

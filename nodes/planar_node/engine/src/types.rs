@@ -375,3 +375,157 @@ pub struct ExternalSetpointGenerationOptions {
     /// Absolute (default) or Relative.
     pub mode: ExternalSetpointMode,
 }
+
+// ---------------------------------------------------------------- tracks (§2.5, §4.1–§4.3)
+
+/// Default gap between movers on a track \[mm\] (ST_MoveOnTrackOptions.gap, §4.2).
+pub const DEFAULT_GAP: f64 = 200.0;
+
+/// `MC_SYNC_DIRECTIONS` (§4.1): slave directions allowed while synchronising.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum SyncDirections {
+    /// Forward only (1); default.
+    #[default]
+    Positive = 1,
+    /// Backward only (2).
+    Negative = 2,
+    /// Both (3).
+    Both = 3,
+}
+
+/// `MC_PLANAR_TRACK_OPERATION_MODE` (§2.5, §4.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum TrackOperationMode {
+    /// Not connected (0).
+    Invalid = 0,
+    /// Not enabled / no geometry (201); unusable by movers.
+    #[default]
+    Uninitialized = 201,
+    /// Enabled, no mover moving, joining or leaving (202).
+    Standing = 202,
+    /// A mover joins or leaves (203): MoveOnTrack rejected.
+    Configuring = 203,
+    /// A mover moves on the track (204): JoinTrack/LeaveTrack rejected.
+    Moving = 204,
+}
+
+/// `ST_MoveOnTrackOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MoveOnTrackOptions {
+    /// Minimal arc-length distance to the mover in front \[mm\] (default 200).
+    pub gap: f64,
+    /// How the target is approached (default NonModulo).
+    pub direction: Direction,
+    /// Extra laps on a closed loop (Positive/Negative only).
+    pub additional_turns: u32,
+    /// Modulo tolerance window \[mm\] (not with NonModulo).
+    pub modulo_tolerance: f64,
+}
+
+impl Default for MoveOnTrackOptions {
+    fn default() -> Self {
+        MoveOnTrackOptions {
+            gap: DEFAULT_GAP,
+            direction: Direction::NonModulo,
+            additional_turns: 0,
+            modulo_tolerance: 0.0,
+        }
+    }
+}
+
+/// `ST_AdoptTrackOrientationOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AdoptTrackOrientationOptions {
+    /// Extra full turns (Positive/Negative only).
+    pub additional_turns: u32,
+    /// How the heading is approached (default ShortestWay).
+    pub direction: Direction,
+}
+
+impl Default for AdoptTrackOrientationOptions {
+    fn default() -> Self {
+        AdoptTrackOrientationOptions {
+            additional_turns: 0,
+            direction: Direction::ShortestWay,
+        }
+    }
+}
+
+/// `ST_StartFromTrackAdvancedOptions` / `ST_EndAtTrackAdvancedOptions` (§4.2, §5.12).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrackLinkAdvancedOptions {
+    /// Position index of the part carrying the track the method is called on (0 = current).
+    pub this_track_part_position_index: u32,
+    /// Position index of the part carrying the other track (0 = current).
+    pub other_track_part_position_index: u32,
+    /// TRUE: the link exists only in exactly this combination of part positions.
+    pub link_only_in_specified_part_positions: bool,
+}
+
+/// `ST_GearInPosOnTrackWithMasterMoverOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GearInPosOnTrackWithMasterMoverOptions {
+    /// Minimal distance to the next mover on the track \[mm\] (default 200).
+    pub gap: f64,
+    /// Allowed |position difference| for `inSync` \[mm\] (default 0 → 1e-3).
+    pub in_sync_tolerance_distance: f64,
+    /// How the slave sync position is approached on a closed loop (default NonModulo).
+    pub direction_slave_sync_position: Direction,
+    /// Modulo tolerance of the slave sync position \[mm\].
+    pub modulo_tolerance_slave_sync_position: f64,
+    /// How the master sync position is interpreted on a closed loop (default NonModulo).
+    pub direction_master_sync_position: Direction,
+    /// Modulo tolerance of the master sync position \[mm\].
+    pub modulo_tolerance_master_sync_position: f64,
+    /// Slave directions while synchronising (default Positive).
+    pub allowed_slave_sync_directions: SyncDirections,
+    /// TRUE: after the master passed the sync position the slave follows its path.
+    pub follow_mover: bool,
+}
+
+impl Default for GearInPosOnTrackWithMasterMoverOptions {
+    fn default() -> Self {
+        GearInPosOnTrackWithMasterMoverOptions {
+            gap: DEFAULT_GAP,
+            in_sync_tolerance_distance: 0.0,
+            direction_slave_sync_position: Direction::NonModulo,
+            modulo_tolerance_slave_sync_position: 0.0,
+            direction_master_sync_position: Direction::NonModulo,
+            modulo_tolerance_master_sync_position: 0.0,
+            allowed_slave_sync_directions: SyncDirections::Positive,
+            follow_mover: false,
+        }
+    }
+}
+
+/// `ST_GearInPosOnTrackOptions` (§4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GearInPosOnTrackOptions {
+    /// Minimal distance to the next mover on the track \[mm\] (default 200).
+    pub gap: f64,
+    /// Allowed |position difference| for `inSync` \[mm\] (default 0 → 1e-3).
+    pub in_sync_tolerance_distance: f64,
+    /// How the slave sync position is approached on a closed loop (default NonModulo).
+    pub direction_slave_sync_position: Direction,
+    /// Modulo tolerance of the slave sync position \[mm\].
+    pub modulo_tolerance_slave_sync_position: f64,
+    /// Slave directions while synchronising (default Positive).
+    pub allowed_slave_sync_directions: SyncDirections,
+}
+
+impl Default for GearInPosOnTrackOptions {
+    fn default() -> Self {
+        GearInPosOnTrackOptions {
+            gap: DEFAULT_GAP,
+            in_sync_tolerance_distance: 0.0,
+            direction_slave_sync_position: Direction::NonModulo,
+            modulo_tolerance_slave_sync_position: 0.0,
+            allowed_slave_sync_directions: SyncDirections::Positive,
+        }
+    }
+}

@@ -1,9 +1,9 @@
 //! The platform profile in the axis engine: crate `isg_platform` (re-exported here: profile,
 //! configuration, safety, start-up, services, the hooks [`PlatformCx`], the raw FB layer),
-//! the engine's configuration [`EngineConfig`] and the engine's glue to the hooks (`hooks`:
-//! [`PlatformCx`] for each call and cycle, [`isg_platform::raw::RawHost`] for the raw layer).
+//! and the engine's configuration [`EngineConfig`]. The engine's glue to the hooks
+//! ([`PlatformCx`] for each call and cycle, [`isg_platform::raw::RawHost`] for the raw layer)
+//! is a child of the composition, `engine/platform.rs`.
 
-mod hooks;
 pub use isg_platform::*;
 
 /// The raw FB layer (plcopen_platform.md §12.2) over this engine's commands.

@@ -79,7 +79,7 @@ pub(crate) struct Mover {
     pub warning: ErrorId,
     pub c_mode: CCoordinateMode,
     /// On-track state (OnTrack / CRotationOnTrack, §5.6).
-    pub track: Option<crate::track::TrackMotion>,
+    pub track: Option<crate::on_track::TrackMotion>,
     /// JoiningTrack: (track, join arc length, C dependent afterwards).
     pub joining: Option<(usize, f64, bool)>,
     /// LeavingTrack: the track left.

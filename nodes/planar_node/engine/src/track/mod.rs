@@ -18,6 +18,13 @@
 
 mod drive;
 mod system;
+pub(crate) use crate::on_track::{GearIn, Master, TrackMotion, TrackTarget};
+/// The track's public option and mode types live in `crate::types` (below the commands and
+/// snapshots that carry them); here for `planar_engine::track::…` paths.
+pub use crate::types::{
+    AdoptTrackOrientationOptions, GearInPosOnTrackOptions, GearInPosOnTrackWithMasterMoverOptions,
+    MoveOnTrackOptions, SyncDirections, TrackLinkAdvancedOptions, TrackOperationMode, DEFAULT_GAP,
+};
 pub(crate) use drive::MoverDrive;
 pub use system::TrackSystem;
 pub(crate) mod gap;
@@ -26,162 +33,7 @@ pub(crate) mod params;
 mod static_check;
 
 use crate::state::PlanarStateMachine;
-use crate::types::{Direction, Dynamics};
 use geometry::TrackGeometry;
-use motion_core::trajectory::Profile1;
-use serde::{Deserialize, Serialize};
-
-/// Default gap between movers on a track \[mm\] (ST_MoveOnTrackOptions.gap, §4.2).
-pub const DEFAULT_GAP: f64 = 200.0;
-
-/// `MC_PLANAR_TRACK_OPERATION_MODE` (§2.5, §4.3).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum TrackOperationMode {
-    /// Not connected (0).
-    Invalid = 0,
-    /// Not enabled / no geometry (201); unusable by movers.
-    #[default]
-    Uninitialized = 201,
-    /// Enabled, no mover moving, joining or leaving (202).
-    Standing = 202,
-    /// A mover joins or leaves (203): MoveOnTrack rejected.
-    Configuring = 203,
-    /// A mover moves on the track (204): JoinTrack/LeaveTrack rejected.
-    Moving = 204,
-}
-
-/// `ST_MoveOnTrackOptions` (§4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct MoveOnTrackOptions {
-    /// Minimal arc-length distance to the mover in front \[mm\] (default 200).
-    pub gap: f64,
-    /// How the target is approached (default NonModulo).
-    pub direction: Direction,
-    /// Extra laps on a closed loop (Positive/Negative only).
-    pub additional_turns: u32,
-    /// Modulo tolerance window \[mm\] (not with NonModulo).
-    pub modulo_tolerance: f64,
-}
-
-impl Default for MoveOnTrackOptions {
-    fn default() -> Self {
-        MoveOnTrackOptions {
-            gap: DEFAULT_GAP,
-            direction: Direction::NonModulo,
-            additional_turns: 0,
-            modulo_tolerance: 0.0,
-        }
-    }
-}
-
-/// `ST_AdoptTrackOrientationOptions` (§4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct AdoptTrackOrientationOptions {
-    /// Extra full turns (Positive/Negative only).
-    pub additional_turns: u32,
-    /// How the heading is approached (default ShortestWay).
-    pub direction: Direction,
-}
-
-impl Default for AdoptTrackOrientationOptions {
-    fn default() -> Self {
-        AdoptTrackOrientationOptions {
-            additional_turns: 0,
-            direction: Direction::ShortestWay,
-        }
-    }
-}
-
-/// `ST_StartFromTrackAdvancedOptions` / `ST_EndAtTrackAdvancedOptions` (§4.2, §5.12).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct TrackLinkAdvancedOptions {
-    /// Position index of the part carrying the track the method is called on (0 = current).
-    pub this_track_part_position_index: u32,
-    /// Position index of the part carrying the other track (0 = current).
-    pub other_track_part_position_index: u32,
-    /// TRUE: the link exists only in exactly this combination of part positions.
-    pub link_only_in_specified_part_positions: bool,
-}
-
-/// `MC_SYNC_DIRECTIONS` (§4.1): slave directions allowed while synchronising.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum SyncDirections {
-    /// Forward only (1); default.
-    #[default]
-    Positive = 1,
-    /// Backward only (2).
-    Negative = 2,
-    /// Both (3).
-    Both = 3,
-}
-
-/// `ST_GearInPosOnTrackWithMasterMoverOptions` (§4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct GearInPosOnTrackWithMasterMoverOptions {
-    /// Minimal distance to the next mover on the track \[mm\] (default 200).
-    pub gap: f64,
-    /// Allowed |position difference| for `inSync` \[mm\] (default 0 → 1e-3).
-    pub in_sync_tolerance_distance: f64,
-    /// How the slave sync position is approached on a closed loop (default NonModulo).
-    pub direction_slave_sync_position: Direction,
-    /// Modulo tolerance of the slave sync position \[mm\].
-    pub modulo_tolerance_slave_sync_position: f64,
-    /// How the master sync position is interpreted on a closed loop (default NonModulo).
-    pub direction_master_sync_position: Direction,
-    /// Modulo tolerance of the master sync position \[mm\].
-    pub modulo_tolerance_master_sync_position: f64,
-    /// Slave directions while synchronising (default Positive).
-    pub allowed_slave_sync_directions: SyncDirections,
-    /// TRUE: after the master passed the sync position the slave follows its path.
-    pub follow_mover: bool,
-}
-
-impl Default for GearInPosOnTrackWithMasterMoverOptions {
-    fn default() -> Self {
-        GearInPosOnTrackWithMasterMoverOptions {
-            gap: DEFAULT_GAP,
-            in_sync_tolerance_distance: 0.0,
-            direction_slave_sync_position: Direction::NonModulo,
-            modulo_tolerance_slave_sync_position: 0.0,
-            direction_master_sync_position: Direction::NonModulo,
-            modulo_tolerance_master_sync_position: 0.0,
-            allowed_slave_sync_directions: SyncDirections::Positive,
-            follow_mover: false,
-        }
-    }
-}
-
-/// `ST_GearInPosOnTrackOptions` (§4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct GearInPosOnTrackOptions {
-    /// Minimal distance to the next mover on the track \[mm\] (default 200).
-    pub gap: f64,
-    /// Allowed |position difference| for `inSync` \[mm\] (default 0 → 1e-3).
-    pub in_sync_tolerance_distance: f64,
-    /// How the slave sync position is approached on a closed loop (default NonModulo).
-    pub direction_slave_sync_position: Direction,
-    /// Modulo tolerance of the slave sync position \[mm\].
-    pub modulo_tolerance_slave_sync_position: f64,
-    /// Slave directions while synchronising (default Positive).
-    pub allowed_slave_sync_directions: SyncDirections,
-}
-
-impl Default for GearInPosOnTrackOptions {
-    fn default() -> Self {
-        GearInPosOnTrackOptions {
-            gap: DEFAULT_GAP,
-            in_sync_tolerance_distance: 0.0,
-            direction_slave_sync_position: Direction::NonModulo,
-            modulo_tolerance_slave_sync_position: 0.0,
-            allowed_slave_sync_directions: SyncDirections::Positive,
-        }
-    }
-}
 
 /// A virtual master axis (§5.8.4): Power, MoveAbsolute, Halt.
 #[derive(Clone, Debug)]
@@ -215,39 +67,6 @@ pub(crate) fn build_axes(
         .map(|(i, a)| (a.name.clone(), i))
         .collect();
     (axes, idx)
-}
-
-/// The master of a gear-in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Master {
-    /// A planar mover (position along its route).
-    Mover(usize),
-    /// A virtual axis.
-    Axis(usize),
-}
-
-/// A running gear-in of a slave on its trail (§5.8): `s*(t) = s_sync + (m(t) − m_sync)`.
-#[derive(Clone, Debug)]
-pub(crate) struct GearIn {
-    pub master: Master,
-    /// Master route coordinate of the start of the master sync track.
-    pub master_origin: f64,
-    pub m_sync: f64,
-    /// Slave sync position (slave route coordinate).
-    pub s_sync: f64,
-    /// Trail bounds (slave route coordinates).
-    pub lo: f64,
-    pub hi: f64,
-    pub dyn_: Dynamics,
-    pub tol: f64,
-    pub allowed: SyncDirections,
-    pub follow: bool,
-    pub in_sync: bool,
-    pub ever_synced: bool,
-    /// On the law and following the master's own motion (direct coupling, §5.8.1).
-    pub coupled: bool,
-    /// Braking to the trail boundary (ends with E_TRACK_BOUNDARY_REACHED).
-    pub boundary: bool,
 }
 
 /// MC_PlanarTrack.
@@ -328,128 +147,6 @@ impl Track {
 impl Track {
     pub fn length(&self) -> f64 {
         self.geo.length()
-    }
-}
-
-/// What the mover is doing on its track (§5.6).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum TrackTarget {
-    /// No command (standing, or stopping after Halt / an error).
-    None,
-    /// MoveOnTrack to this route coordinate.
-    Position(f64),
-}
-
-/// A mover's on-track state (SETONTRACK, §4.4). Positions are route coordinates `r`:
-/// on a closed loop the unwrapped arc length; on open tracks the arc length on the track
-/// the route started from (`s = r - base` on the current track).
-#[derive(Clone, Debug)]
-pub(crate) struct TrackMotion {
-    pub track: usize,
-    pub base: f64,
-    pub r: f64,
-    pub v: f64,
-    pub a: f64,
-    pub plan: Option<(Profile1, f64)>,
-    /// Dynamics of the running plan.
-    pub plan_dyn: Dynamics,
-    /// (deceleration, jerk) with which the current state was verified against the gap.
-    pub safe: (f64, f64),
-    /// Following a committed stop (no gap checks needed: the reach only shrinks).
-    pub braking: bool,
-    pub target: TrackTarget,
-    /// Dynamics of the MoveOnTrack command (re-plans after waiting use them).
-    pub cmd_dyn: Dynamics,
-    pub gap: f64,
-    /// Tracks still to pass, in order (cross-track MoveOnTrack, §5.6.5).
-    pub route: Vec<usize>,
-    /// Cycles since the last re-plan while gap-limited.
-    pub since_replan: u32,
-    /// The plan ends short of the target because of the gap.
-    pub limited: bool,
-    /// Index in `Track::order`.
-    pub slot: usize,
-    /// Dependent C: c = heading + c_off \[deg\] (§5.9).
-    pub c_off: f64,
-    /// AdoptTrackOrientation running: C becomes dependent when it ends on the heading.
-    pub adopt: bool,
-    /// Gear-in on a master mover running (§5.8).
-    pub gear: Option<GearIn>,
-}
-
-impl TrackMotion {
-    pub fn new(track: usize, s: f64, dyn_: Dynamics) -> Self {
-        TrackMotion {
-            track,
-            base: 0.0,
-            r: s,
-            v: 0.0,
-            a: 0.0,
-            plan: None,
-            plan_dyn: dyn_,
-            safe: (dyn_.deceleration, dyn_.jerk),
-            braking: false,
-            target: TrackTarget::None,
-            cmd_dyn: dyn_,
-            gap: DEFAULT_GAP,
-            route: Vec::new(),
-            since_replan: 0,
-            limited: false,
-            slot: 0,
-            c_off: 0.0,
-            adopt: false,
-            gear: None,
-        }
-    }
-
-    /// Arc length on the current track.
-    pub fn s(&self) -> f64 {
-        self.r - self.base
-    }
-
-    pub fn state(&self) -> motion_core::trajectory::State1 {
-        motion_core::trajectory::State1 {
-            pos: self.r,
-            vel: self.v,
-            acc: self.a,
-        }
-    }
-
-    /// A plan or a pending target keeps the mover (and its tracks) Moving.
-    pub fn active(&self) -> bool {
-        self.plan.is_some()
-            || self.target != TrackTarget::None
-            || self.v != 0.0
-            || self.gear.is_some()
-    }
-
-    /// Stops along the track with `d` (Halt, Disable, QuickStop): a committed stop.
-    pub fn plan_stop(&mut self, d: &Dynamics) {
-        self.target = TrackTarget::None;
-        self.gear = None;
-        self.route.clear();
-        self.limited = false;
-        if self.v == 0.0 && self.a == 0.0 {
-            self.plan = None;
-            return;
-        }
-        if let Ok(p) = Profile1::stopping(self.state(), &d.limits()) {
-            self.plan = Some((p, 0.0));
-            self.plan_dyn = *d;
-            self.braking = false;
-        }
-    }
-
-    /// Freezes the motion (Abort reaction).
-    pub fn freeze(&mut self) {
-        self.plan = None;
-        self.v = 0.0;
-        self.a = 0.0;
-        self.target = TrackTarget::None;
-        self.gear = None;
-        self.route.clear();
-        self.braking = false;
-        self.limited = false;
     }
 }
 

@@ -2,9 +2,9 @@
 //! axes and groups for each call and cycle ([`PlatformCx`]) and tells it what a single-axis
 //! call is ([`AxisCall`], from the command).
 
-use super::*;
+use super::AxisEngine;
 use crate::command::*;
-use crate::engine::AxisEngine;
+use crate::platform::*;
 use motion_core::{CmdId, CommandEvent, ErrorId, Rejection, Tick};
 
 impl AxisEngine {

@@ -1,9 +1,21 @@
-//! The objects as the track subsystem sees them ([`MoverDrive`]): each method hands out a
-//! record or runs the objects' own check, command or bookkeeping.
+//! The two layers wired, the one place that knows both: the objects reach the track subsystem
+//! through their trait `TrackHooks` (implemented here by `TrackSystem`); the tracks reach the
+//! movers through theirs, `MoverDrive` (implemented here by `Objects`: each method hands out a
+//! record or runs the objects' own check, command or bookkeeping).
 
-use super::*;
-use crate::track::MoverDrive;
-use crate::types::{DynamicConstraint, MoveCOptions, MoveToPositionOptions};
+use crate::admission::CommandKind;
+use crate::command::PlanarCommand;
+use crate::geometry::{ConvexPolygon, V2};
+use crate::guard::Grid;
+use crate::objects::{Environment, Group, Mover, Objects, Part, TrackHooks};
+use crate::snapshot::{OnTrackSnapshot, PlanarReply, TrackSnapshot, VirtualAxisSnapshot};
+use crate::state::Timing;
+use crate::track::{MoverDrive, TrackSystem};
+use crate::types::{
+    DynamicConstraint, ErrorReaction, MoveCOptions, MoveToPositionOptions, PlanarObjectInfo,
+    PositionXYC,
+};
+use motion_core::{CmdId, CommandEvent, Rejection};
 
 impl MoverDrive for Objects {
     fn movers(&self) -> &[Mover] {
@@ -124,5 +136,73 @@ impl MoverDrive for Objects {
 
     fn finish_idle(&mut self, tracks: &mut dyn TrackHooks, i: usize) {
         Objects::finish_idle(self, tracks, i)
+    }
+}
+
+impl TrackHooks for TrackSystem {
+    fn command(
+        &mut self,
+        objects: &mut Objects,
+        cmd: PlanarCommand,
+    ) -> Result<PlanarReply, Rejection> {
+        self.track_command(objects, cmd)
+    }
+
+    fn step_mover(
+        &mut self,
+        objects: &mut Objects,
+        i: usize,
+        dt: f64,
+        grid: &mut Grid,
+        cand: &mut Vec<u32>,
+    ) {
+        self.step_track_mover(objects, i, dt, grid, cand);
+    }
+
+    fn finish_idle(&mut self, objects: &mut Objects, i: usize) {
+        self.track_finish_idle(objects, i);
+    }
+
+    fn check_swept(
+        &mut self,
+        objects: &mut Objects,
+        i: usize,
+        swept: &ConvexPolygon,
+    ) -> Result<(), Rejection> {
+        self.check_moving_tracks(objects, i, swept)
+    }
+
+    fn detach(&mut self, objects: &mut Objects, i: usize) {
+        self.detach_from_track(objects, i);
+    }
+
+    fn part_moved(&mut self, part_oid: u32, cs: u32) {
+        TrackSystem::part_moved(self, part_oid, cs);
+    }
+
+    fn inject_error(
+        &mut self,
+        name: &str,
+        reaction: ErrorReaction,
+        timing: &Timing,
+        events: &mut Vec<CommandEvent>,
+    ) -> Result<(), Rejection> {
+        TrackSystem::inject_error(self, name, reaction, timing, events)
+    }
+
+    fn mover_on_track(&self, objects: &Objects, m: &Mover) -> Option<OnTrackSnapshot> {
+        self.on_track_snapshot(objects, m)
+    }
+
+    fn track_name(&self, k: usize) -> String {
+        TrackSystem::track_name(self, k)
+    }
+
+    fn group_tracks(&self, g: usize) -> Vec<String> {
+        TrackSystem::group_tracks(self, g)
+    }
+
+    fn snapshots(&self, objects: &Objects) -> (Vec<TrackSnapshot>, Vec<VirtualAxisSnapshot>) {
+        (self.track_snapshots(objects), self.axis_snapshots())
     }
 }
