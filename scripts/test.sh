@@ -8,6 +8,9 @@ scripts/setup.sh
 # Real ROS 2 Jazzy (rclpy on Fast DDS) and our interfaces, for the rclpy suite: a venv in
 # .ros/venv, rebuilt only when the wheels or interface files change (a no-op otherwise).
 scripts/ros-venv.sh
+# Debian's chromium and playwright-core for the live view's browser test (must run, not skip).
+scripts/browser-setup.sh
+export MOTION_REQUIRE_BROWSER=1
 export CARGO_TERM_COLOR=${CARGO_TERM_COLOR:-never}
 # A one-shot build gains nothing from incremental state, which would add GBs on disk.
 export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}

@@ -3,6 +3,7 @@
 
 pub mod docs;
 pub mod flood;
+pub mod moving_demo;
 
 use motion_core::Engine;
 use motion_runtime::host::CommonConfig;

@@ -48,6 +48,14 @@ pub enum CellCommand {
     },
 }
 
+/// A command read from a launch config's `script` is an engine command, as the engine spells
+/// it (`{DetectWorkpiece: {...}}`); the shell-level operations come only from services.
+impl<'de> serde::Deserialize<'de> for CellCommand {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        PickPlaceCommand::deserialize(d).map(CellCommand::Engine)
+    }
+}
+
 /// What an accepted command answers.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CellReply {

@@ -107,6 +107,9 @@ enum Request<E: Engine> {
     /// A custom cycle: runs instead of the next plain `step` (see
     /// [`ControllerHandle::cycle_with`]).
     Cycle(CustomStep<E>),
+    /// The node's command script: (cycle, command) in running order (see
+    /// [`ControllerHandle::load_script`]).
+    Script(Vec<(u64, E::Command)>),
 }
 
 /// A cycle run by the caller's closure instead of `Engine::step`: it gets the engine, the
@@ -271,6 +274,7 @@ impl<E: Engine> Controller<E> {
             clock: clock.clone(),
             held: None,
             stream: stream_tx,
+            script: VecDeque::new(),
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
@@ -451,6 +455,15 @@ impl<E: Engine> ControllerHandle<E> {
         rx.await.map_err(|_| not_running())
     }
 
+    /// Loads the node's command script: each (cycle, command) is applied before that cycle's
+    /// step (steps already due run before the next cycle), in the given order.
+    pub fn load_script(&self, steps: Vec<(u64, E::Command)>) -> Result<(), Rejection> {
+        if steps.is_empty() {
+            return Ok(());
+        }
+        self.push(Request::Script(steps))
+    }
+
     /// Lockstep: runs `n` cycles and returns the cycle count afterwards.
     /// In real-time mode the request is rejected.
     pub async fn step(&self, n: u64) -> Result<u64, Rejection> {
@@ -563,6 +576,8 @@ struct CycleThread<E: Engine> {
     /// The lossless state stream (lockstep with `stream_every` > 0); dropped when its reader
     /// is gone.
     stream: Option<tmpsc::Sender<Arc<Stamped<E::Snapshot>>>>,
+    /// The command script's steps still to run: (cycle, command), in running order.
+    script: VecDeque<(u64, E::Command)>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -617,7 +632,7 @@ impl<E: Engine> CycleThread<E> {
                 Request::Cancel { reply, .. } => {
                     let _ = reply.send(Err(not_running()));
                 }
-                Request::Cycle(_) => {}
+                Request::Cycle(_) | Request::Script(_) => {}
             }
         }
     }
@@ -736,6 +751,7 @@ impl<E: Engine> CycleThread<E> {
                 Err(_) => break,
             }
         }
+        self.run_script();
         let tick = Tick {
             index: self.cycle,
             dt: self.config.period,
@@ -812,8 +828,28 @@ impl<E: Engine> CycleThread<E> {
                 let _ = reply.send(self.engine.cancel(id));
             }
             Request::Cycle(f) => return Some(f),
+            Request::Script(steps) => self.script = steps.into(),
         }
         None
+    }
+
+    /// The script's steps due before this cycle's step, applied as a client's calls would be
+    /// (their events go to `~/command_status` like any other command's).
+    fn run_script(&mut self) {
+        while self.script.front().is_some_and(|(at, _)| *at <= self.cycle) {
+            let Some((_, cmd)) = self.script.pop_front() else {
+                break;
+            };
+            if let Err(r) = self.engine.command(cmd) {
+                tracing::warn!(
+                    node = %self.config.name,
+                    cycle = self.cycle,
+                    error_id = r.error_id.0,
+                    "script step rejected: {}",
+                    r.message
+                );
+            }
+        }
     }
 
     /// A snapshot of the current cycle unless one was already taken after it (the stream, a

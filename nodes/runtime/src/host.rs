@@ -48,6 +48,24 @@ pub struct CommonConfig {
     /// lockstep, off with use_sim_time; 0 = off). The cycle waits for slow publishers, never
     /// the other way round. Not available in real time (refused).
     pub state_publish_every_n_cycles: Option<u32>,
+    /// A command script (`script:`): commands the node applies by itself at given simulated
+    /// times, so a machine moves without a client (demos, `--cycles` runs, replays).
+    pub script: Vec<ScriptStep>,
+}
+
+/// One step of a node's command script: at simulated time `at` [s] (the cycle
+/// `round(at / cycle_period)`), the engine command `command` (as the engine spells it, e.g.
+/// `{MoveAbsolute: {axis: x, position: 100.0, velocity: 500.0, ...}}`) is applied before that
+/// cycle's step, exactly as a client's call in that cycle would be. Steps run in the order of
+/// their times (the listed order among equal times); a rejected step is logged with its error
+/// id and the script goes on.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ScriptStep {
+    /// Simulated time [s] from the node's start.
+    pub at: f64,
+    /// The engine command.
+    pub command: serde_yaml::Value,
 }
 
 impl Default for CommonConfig {
@@ -66,6 +84,7 @@ impl Default for CommonConfig {
             tf_parent: "world".into(),
             tf_pose: [0.0; 6],
             state_publish_every_n_cycles: None,
+            script: Vec::new(),
         }
     }
 }
@@ -86,6 +105,7 @@ pub const COMMON_KEYS: &[&str] = &[
     "tf_parent",
     "tf_pose",
     "state_publish_every_n_cycles",
+    "script",
 ];
 
 /// A configuration error: where (file, key) and what is wrong.
@@ -148,6 +168,14 @@ impl CommonConfig {
                     .to_string(),
             ));
         }
+        for (i, step) in self.script.iter().enumerate() {
+            if !(step.at.is_finite() && (0.0..=1e7).contains(&step.at)) {
+                return Err(bad(
+                    &format!("script[{i}].at"),
+                    format!("{} s is outside [0, 1e7] s", step.at),
+                ));
+            }
+        }
         if self.queue_capacity == 0 || self.queue_capacity > 100_000 {
             return Err(bad(
                 "queue_capacity",
@@ -209,6 +237,25 @@ impl CommonConfig {
             spin: self.spin.min(self.cycle_period / 2.0),
             stream_every: self.stream_every(),
         }
+    }
+
+    /// The script as engine commands with the cycle each runs before, in running order; a
+    /// command the engine cannot read is a configuration error naming its step.
+    pub fn script_commands<C: serde::de::DeserializeOwned>(
+        &self,
+        location: &str,
+    ) -> Result<Vec<(u64, C)>, ConfigError> {
+        let mut out = Vec::with_capacity(self.script.len());
+        for (i, step) in self.script.iter().enumerate() {
+            let cmd = from_value(
+                step.command.clone(),
+                &format!("{location}.script[{i}].command"),
+            )?;
+            out.push(((step.at / self.cycle_period).round() as u64, cmd));
+        }
+        // Stable: equal times keep the listed order.
+        out.sort_by_key(|(cycle, _)| *cycle);
+        Ok(out)
     }
 
     /// Every how many cycles the state topics publish in simulated time (0: at `state_rate`).
@@ -392,10 +439,21 @@ where
         engine: E,
         extra_parameters: Vec<(String, ParameterValue)>,
         setup: impl FnOnce(&mut NodeShell<E>) -> Result<(), ShellError>,
-    ) -> Result<Self, ShellError> {
+    ) -> Result<Self, ShellError>
+    where
+        E::Command: serde::de::DeserializeOwned,
+    {
         let context = shell::create_context(domain_id)?;
+        let script = common
+            .script_commands::<E::Command>(&format!("node '{}'", common.name))
+            .map_err(|e| ShellError(format!("configuration error: {e}")))?;
         let (controller, events) = Controller::spawn(engine, common.cycle(), E::reply_id)
             .map_err(|e| ShellError(format!("starting the cycle thread: {e}")))?;
+        // At once: in real time the cycles run already.
+        controller
+            .handle()
+            .load_script(script)
+            .map_err(|e| ShellError(format!("loading the script: {}", e.message)))?;
         let mut params = common.parameters();
         params.extend(extra_parameters);
         let mut shell = NodeShell::new(&context, common.shell()?, controller.handle(), params)?;

@@ -126,12 +126,21 @@ pub fn load_with(
     load_launch(path, kinds, ros).map(|(entries, _)| entries)
 }
 
-/// [`load_with`], also returning the config's `record` key (see [`parse_launch`]).
+/// The launch config's keys beside `nodes`: what the whole process does.
+#[derive(Debug, Default)]
+struct LaunchKeys {
+    /// `record: FILE.mcap`: record every published message of every node.
+    record: Option<String>,
+    /// `live: true | false | {host, port, page_port}`: the live feed and page.
+    live: Option<crate::live::LiveSettings>,
+}
+
+/// [`load_with`], also returning the config's process keys (see [`parse_launch`]).
 fn load_launch(
     path: &Path,
     kinds: &[NodeKind],
     ros: &RosArgs,
-) -> Result<(Vec<NodeEntry>, Option<String>), ConfigError> {
+) -> Result<(Vec<NodeEntry>, LaunchKeys), ConfigError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
         location: file.clone(),
@@ -155,14 +164,15 @@ pub fn parse_with(
     parse_launch(text, file, kinds, ros).map(|(entries, _)| entries)
 }
 
-/// [`parse_with`], also returning the config's `record` key (record every published message
-/// of every node to this MCAP file; `--record FILE` takes precedence).
+/// [`parse_with`], also returning the config's process keys: `record` (record every published
+/// message of every node to this MCAP file; `--record FILE` takes precedence) and `live` (the
+/// live feed and page; `--live PORT` / `--no-live` take precedence).
 fn parse_launch(
     text: &str,
     file: &str,
     kinds: &[NodeKind],
     ros: &RosArgs,
-) -> Result<(Vec<NodeEntry>, Option<String>), ConfigError> {
+) -> Result<(Vec<NodeEntry>, LaunchKeys), ConfigError> {
     let root: serde_yaml::Value = serde_yaml::from_str(text).map_err(|e| ConfigError {
         location: file.into(),
         message: e.to_string(),
@@ -181,10 +191,12 @@ fn parse_launch(
                     message: "expected a file name (e.g. run.mcap)".into(),
                 })
             }
+            Some("live") => {}
             _ => {
                 return Err(ConfigError {
                     location: format!("{file}: {}", k.as_str().unwrap_or("?")),
-                    message: "unknown key (expected 'nodes' and optionally 'record')".into(),
+                    message: "unknown key (expected 'nodes' and optionally 'record', 'live')"
+                        .into(),
                 })
             }
         }
@@ -246,7 +258,18 @@ fn parse_launch(
         .get("record")
         .and_then(|v| v.as_str())
         .map(str::to_string);
-    Ok((out, record))
+    let live = match map.get("live") {
+        None => None,
+        Some(serde_yaml::Value::Bool(on)) => Some(crate::live::LiveSettings {
+            enabled: *on,
+            ..Default::default()
+        }),
+        Some(v) => Some(serde_yaml::from_value(v.clone()).map_err(|e| ConfigError {
+            location: format!("{file}: live"),
+            message: format!("{e} (expected true, false or {{host, port, page_port}})"),
+        })?),
+    };
+    Ok((out, LaunchKeys { record, live }))
 }
 
 /// Command line of the launcher and of each node binary.
@@ -263,6 +286,9 @@ pub struct Args {
     /// `--cycles N`: run N cycles of every (lockstep) node as fast as they go, then stop;
     /// no client needs to step them over DDS.
     pub cycles: Option<u64>,
+    /// `--live PORT` (serve the live feed on PORT, the page on the config's page port) or
+    /// `--no-live` (Some(None)).
+    pub live: Option<Option<u16>>,
     /// `--ros-args ... [--]`.
     pub ros: RosArgs,
 }
@@ -293,6 +319,14 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                     _ => return Err(format!("--cycles: '{v}' is not a positive whole number")),
                 }
             }
+            "--live" => {
+                let v = it.next().ok_or("--live needs a port (e.g. 8765)")?;
+                a.live =
+                    Some(Some(v.parse::<u16>().map_err(|_| {
+                        format!("--live: '{v}' is not a port number")
+                    })?));
+            }
+            "--no-live" => a.live = Some(None),
             "--record" => {
                 let v = it
                     .next()
@@ -319,7 +353,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--cycles N] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--cycles N] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -329,7 +363,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     };
     let path = args.config.unwrap_or_else(|| default_config.to_string());
     crate::ros_args::install_remaps(args.ros.remaps.clone());
-    let (entries, record_key) = match load_launch(Path::new(&path), kinds, &args.ros) {
+    let (entries, keys) = match load_launch(Path::new(&path), kinds, &args.ros) {
         Ok(e) => e,
         Err(e) => {
             eprintln!("{program}: configuration error: {e}");
@@ -357,7 +391,16 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
             return 2;
         }
     };
-    let record = args.record.clone().or(record_key);
+    let record = args.record.clone().or(keys.record);
+    let live = match (args.live, keys.live) {
+        (Some(None), _) | (None, None) => None,
+        (Some(Some(port)), cfg) => Some(crate::live::LiveSettings {
+            enabled: true,
+            port,
+            ..cfg.unwrap_or_default()
+        }),
+        (None, Some(cfg)) => cfg.enabled.then_some(cfg),
+    };
     if let (Some(file), false) = (&record, args.check) {
         if let Err(e) = crate::record::start(Path::new(file)) {
             eprintln!("{program}: cannot record to {file}: {e}");
@@ -376,6 +419,23 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         }
     };
     rt.block_on(async move {
+        // The live feed first: every publisher finds it at its first message.
+        let mut _feed = None;
+        if let (Some(settings), false) = (&live, args.check) {
+            match crate::live::start(settings).await {
+                Ok(f) => {
+                    println!(
+                        "{program}: live feed ws://{} (Foxglove, Lichtblick: open connection); page http://{}/",
+                        f.feed, f.page
+                    );
+                    _feed = Some(f);
+                }
+                // The machine runs without its feed (a second demo on the same ports, say).
+                Err(e) => eprintln!(
+                    "{program}: {e}; running without the live feed (choose another port with --live PORT)"
+                ),
+            }
+        }
         let mut running: Vec<RunningNode> = Vec::new();
         for e in &entries {
             if shutdown.requested() {

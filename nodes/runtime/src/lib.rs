@@ -6,6 +6,8 @@
 pub mod clock;
 pub mod cycle;
 pub mod failsafe;
+pub mod live;
+mod page;
 pub mod record;
 pub mod ros_args;
 pub mod rt;

@@ -214,23 +214,35 @@ pub fn start(path: &Path) -> Result<(), RecordError> {
     Ok(())
 }
 
-/// Records `msg` (ROS type `ros_type`) on `topic` at ROS time `stamp_ns`, if this process
-/// records; otherwise does nothing. Never blocks.
-pub fn record<M: serde::Serialize>(topic: &str, ros_type: &'static str, stamp_ns: i64, msg: &M) {
+/// True while this process records.
+fn recording() -> bool {
+    RECORDER.get().is_some()
+}
+
+/// Hands an already serialized message to the recording. Never blocks.
+fn record_serialized(topic: &str, ros_type: &'static str, stamp_ns: u64, data: Vec<u8>) {
     let Some(r) = RECORDER.get() else {
-        return;
-    };
-    let Ok(data) = serialized(msg) else {
         return;
     };
     let entry = Entry::Message {
         topic: topic.to_string(),
         ros_type,
-        stamp_ns: stamp_ns.max(0) as u64,
+        stamp_ns,
         data,
     };
     if r.tx.try_send(entry).is_err() {
         r.dropped.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
+/// Records `msg` (ROS type `ros_type`) on `topic` at ROS time `stamp_ns`, if this process
+/// records; otherwise does nothing. Never blocks.
+pub fn record<M: serde::Serialize>(topic: &str, ros_type: &'static str, stamp_ns: i64, msg: &M) {
+    if !recording() {
+        return;
+    }
+    if let Ok(data) = serialized(msg) {
+        record_serialized(topic, ros_type, stamp_ns.max(0) as u64, data);
     }
 }
 
@@ -260,11 +272,15 @@ pub fn time_ns(t: &motion_msgs::deps::builtin_interfaces::msg::Time) -> i64 {
     i64::from(t.sec) * 1_000_000_000 + i64::from(t.nanosec)
 }
 
-/// A node's publisher whose messages also go to the process's recording, when it records: the
-/// one place where publishing and recording meet (every publisher of the shell and the nodes).
+/// A node's publisher whose messages also go to the process's recording and live feed
+/// ([`crate::live`]), when it has them: the one place where publishing, recording and the live
+/// feed meet (every publisher of the shell and the nodes). A message is serialized once, and
+/// only when someone takes it.
 pub struct RecordedPublisher<M: serde::Serialize> {
     publisher: ros2_client::Publisher<M>,
     topic: String,
+    /// The live feed's channel of this topic, looked up at the first message.
+    live: std::sync::OnceLock<Option<std::sync::Arc<foxglove::RawChannel>>>,
 }
 
 impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
@@ -273,12 +289,27 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
         RecordedPublisher {
             publisher,
             topic: topic.to_string(),
+            live: std::sync::OnceLock::new(),
         }
     }
 
-    /// Records `msg` at ROS time `stamp_ns` (if this process records), then publishes it.
+    /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
+    /// feed (if a client subscribed to the topic), then publishes it.
     pub async fn publish(&self, msg: M, stamp_ns: i64) -> ros2_client::error::WriteResult<(), M> {
-        record(&self.topic, M::ROS_TYPE_NAME, stamp_ns, &msg);
+        let live = self
+            .live
+            .get_or_init(|| crate::live::channel(&self.topic, M::ROS_TYPE_NAME))
+            .as_ref()
+            .filter(|c| c.has_sinks());
+        if recording() || live.is_some() {
+            if let Ok(data) = serialized(&msg) {
+                let stamp = stamp_ns.max(0) as u64;
+                if let Some(c) = live {
+                    c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
+                }
+                record_serialized(&self.topic, M::ROS_TYPE_NAME, stamp, data);
+            }
+        }
         self.publisher.async_publish(msg).await
     }
 }
