@@ -11,10 +11,13 @@ use serde_yaml::{Mapping, Value};
 fn step<C: serde::Serialize>(at: f64, command: C) -> Value {
     let mut m = Mapping::new();
     m.insert("at".into(), at.into());
-    m.insert(
-        "command".into(),
-        serde_yaml::to_value(command).expect("command as YAML"),
-    );
+    // The map form users write: {MoveAbsolute: {axis: x, ...}}.
+    let command = serde_yaml::with::singleton_map_recursive::serialize(
+        &command,
+        serde_yaml::value::Serializer,
+    )
+    .expect("command as YAML");
+    m.insert("command".into(), command);
     Value::Mapping(m)
 }
 

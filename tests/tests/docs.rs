@@ -113,7 +113,8 @@ fn the_launch_configs_shown_are_valid() {
                     .iter()
                     .find(|k| k.kind == e.kind)
                     .expect("kind");
-                (kind.check)(e.engine.clone(), &e.location).unwrap_or_else(|e| panic!("{e}"));
+                (kind.check)(&e.common, e.engine.clone(), &e.location)
+                    .unwrap_or_else(|e| panic!("{e}"));
             }
             checked += 1;
         }

@@ -43,7 +43,7 @@ fn every_launch_config_checks_out() {
                 .iter()
                 .find(|k| k.kind == e.kind)
                 .expect("kind");
-            (kind.check)(e.engine, &e.location).unwrap_or_else(|err| panic!("{err}"));
+            (kind.check)(&e.common, e.engine, &e.location).unwrap_or_else(|err| panic!("{err}"));
         }
         n += 1;
     }
@@ -199,6 +199,36 @@ const BAD: &[(&str, &[&str])] = &[
     (
         "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n    service_mapping: zenoh\n",
         &["service_mapping", "zenoh"],
+    ),
+    // Command scripts: the engine's command names and fields, finite non-negative times.
+    (
+        "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n    script: [{at: 0, command: {MoveAbsolut: {axis: x}}}]\n",
+        &["nodes[0] (axis_node).script[0].command", "unknown variant `MoveAbsolut`"],
+    ),
+    (
+        "nodes:\n  - kind: planar_node\n    script: [{at: 0, command: {MoverEnable: {}}}]\n",
+        &["nodes[0] (planar_node).script[0].command", "missing field `mover`"],
+    ),
+    (
+        "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n    script: [{at: .nan, command: {}}]\n",
+        &["script[0].at", "outside"],
+    ),
+    (
+        "nodes:\n  - kind: axis_node\n    axes: {x: {}}\n    script: [{at: -1, command: {}}]\n",
+        &["script[0].at", "outside"],
+    ),
+    (
+        "nodes:\n  - kind: pickplace_node\n    script: [{when: 1}]\n",
+        &["script", "unknown field `when`"],
+    ),
+    // The live view: true, false or {host, port, page_port}.
+    (
+        "live: {port: 99999}\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
+        &["live", "99999"],
+    ),
+    (
+        "live: {prot: 8765}\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
+        &["live", "unknown field `prot`"],
     ),
     (
         "nodes:\n  - kind: planar_node\n    tracks: [{name: t, geometry: [{line: {start: [0, 0], end: [0, 0]}}]}]\n",

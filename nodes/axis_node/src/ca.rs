@@ -1076,7 +1076,11 @@ mod tests {
     fn ca_groups_config_errors_name_key_and_problem() {
         let check = |text: &str| {
             let v: serde_yaml::Value = serde_yaml::from_str(text).unwrap();
-            crate::check(v, "f.yaml: nodes[0] (axis_node)")
+            crate::check(
+                &motion_runtime::CommonConfig::default(),
+                v,
+                "f.yaml: nodes[0] (axis_node)",
+            )
         };
         check("axes: {x: {}}\nca_groups: {ring: {rail_length: 1200.0}, other: ~}\n")
             .expect("valid");

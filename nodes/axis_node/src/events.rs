@@ -18,7 +18,7 @@ use axis_engine::{AxisEngine, AxisSnapshot};
 use motion_core::{CommandEvent, CommandState, Engine};
 use motion_msgs::msg::AxisEvent;
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::{private_name, stamp};
+use motion_runtime::shell::{private_name, stamp, stamp_ns};
 use motion_runtime::{CommandLabel, NodeShell, ShellError};
 use ros2_client::qos::{Durability, History, QosProfile};
 use std::time::Duration;
@@ -265,7 +265,7 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
         loop {
             let (batch, t) = tokio::select! {
                 a = acks.recv() => match a {
-                    Some((ev, label)) => (orders.of(&ev, &label), stamp(&handle.snapshot())),
+                    Some((ev, label, at)) => (orders.of(&ev, &label), stamp_ns(at)),
                     None => break,
                 },
                 _ = tick.tick() => {

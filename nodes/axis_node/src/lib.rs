@@ -51,7 +51,12 @@ pub const NODE_KIND: NodeKind = NodeKind {
 };
 
 /// Checks an `axis_node` entry's engine part (`--check`): parse and build the engine.
-pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
+pub fn check(
+    common: &CommonConfig,
+    engine_cfg: serde_yaml::Value,
+    location: &str,
+) -> Result<(), ConfigError> {
+    common.script_commands::<axis_engine::AxisCommand>(location)?;
     build_with_ca(parse(engine_cfg, location)?.0, location).map(|_| ())
 }
 

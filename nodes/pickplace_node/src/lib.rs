@@ -39,7 +39,12 @@ pub const NODE_KIND: NodeKind = NodeKind {
 
 /// Checks a `pickplace_node` entry's engine part (`--check`): parse and build the engine (with
 /// the default cycle; the node's `cycle_period` is checked when it starts).
-pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
+pub fn check(
+    common: &CommonConfig,
+    engine_cfg: serde_yaml::Value,
+    location: &str,
+) -> Result<(), ConfigError> {
+    common.script_commands::<cell::CellCommand>(location)?;
     let cfg = config(engine_cfg, location)?;
     engine(cfg, location).map(|_| ())
 }
@@ -149,20 +154,31 @@ mod tests {
 
     #[test]
     fn config_errors_name_the_key() {
-        let e = check(yaml("cycle_time_s: 0.002"), "f: nodes[0]").unwrap_err();
+        let e = check(
+            &CommonConfig::default(),
+            yaml("cycle_time_s: 0.002"),
+            "f: nodes[0]",
+        )
+        .unwrap_err();
         assert_eq!(e.location, "f: nodes[0].cycle_time_s");
         let e = check(
+            &CommonConfig::default(),
             yaml("belts: {\"1\": {params: {z_dist_belt: -1}}}"),
             "f: nodes[0]",
         )
         .unwrap_err();
         assert!(e.to_string().contains("lrZDistBelt"), "{e}");
-        let e = check(yaml("path_prep_cycles: 40"), "f: nodes[0]").unwrap_err();
+        let e = check(
+            &CommonConfig::default(),
+            yaml("path_prep_cycles: 40"),
+            "f: nodes[0]",
+        )
+        .unwrap_err();
         assert_eq!(e.location, "f: nodes[0].path_prep_cycles", "{e}");
-        let e = check(yaml("bogus: 1"), "f: nodes[0]").unwrap_err();
+        let e = check(&CommonConfig::default(), yaml("bogus: 1"), "f: nodes[0]").unwrap_err();
         assert!(e.message.contains("bogus"), "{e}");
-        check(yaml("{}"), "f").unwrap();
-        check(serde_yaml::Value::Null, "f").unwrap();
+        check(&CommonConfig::default(), yaml("{}"), "f").unwrap();
+        check(&CommonConfig::default(), serde_yaml::Value::Null, "f").unwrap();
     }
 
     #[test]

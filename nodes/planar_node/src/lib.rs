@@ -84,7 +84,12 @@ fn engine(cfg: PlanarConfig, location: &str) -> Result<PlanarEngine, ConfigError
 }
 
 /// Checks a `planar_node` entry's engine part (`--check`): parse and build the engine.
-pub fn check(engine_cfg: serde_yaml::Value, location: &str) -> Result<(), ConfigError> {
+pub fn check(
+    common: &CommonConfig,
+    engine_cfg: serde_yaml::Value,
+    location: &str,
+) -> Result<(), ConfigError> {
+    common.script_commands::<planar_engine::PlanarCommand>(location)?;
     let cycle = engine_cfg
         .get("cycle_time")
         .and_then(|t| t.as_f64())
@@ -189,9 +194,14 @@ mod tests {
         let e = config_from_yaml(yaml("movers: [{name: m1, widht: 3}]"), 0.001, "f: nodes[0]")
             .unwrap_err();
         assert!(e.to_string().contains("widht"), "{e}");
-        let e = check(yaml("movers: [{name: m1}, {name: m1}]"), "f: nodes[0]").unwrap_err();
+        let e = check(
+            &CommonConfig::default(),
+            yaml("movers: [{name: m1}, {name: m1}]"),
+            "f: nodes[0]",
+        )
+        .unwrap_err();
         assert!(e.message.contains("movers[1].name"), "{e}");
-        assert!(check(yaml("movers: [{name: m1}]"), "f").is_ok());
+        assert!(check(&CommonConfig::default(), yaml("movers: [{name: m1}]"), "f").is_ok());
     }
 
     #[test]
@@ -212,15 +222,21 @@ mod tests {
         .unwrap_err();
         assert!(e.to_string().contains("geometrie"), "{e}");
         assert!(e.location.starts_with("f: nodes[0]"), "{e}");
-        assert!(check(yaml("tracks: [{name: t}, {name: t}]"), "f").is_err());
+        assert!(check(
+            &CommonConfig::default(),
+            yaml("tracks: [{name: t}, {name: t}]"),
+            "f"
+        )
+        .is_err());
     }
 
     #[test]
     fn track_init_geometry_errors_carry_the_id_key_and_track() {
         let ok = "tracks: [{name: a, geometry: [{line: {start: [0, 0], end: [100, 0]}}]}, \
                   {name: b, starts_from: [a], geometry: [{circle: {start: [300, 100], end: [300, 100], center: [300, 200]}}]}]";
-        assert!(check(yaml(ok), "f").is_ok());
+        assert!(check(&CommonConfig::default(), yaml(ok), "f").is_ok());
         let e = check(
+            &CommonConfig::default(),
             yaml("tracks: [{name: a, geometry: [{line: {start: [0, 0], end: [0, 0]}}]}]"),
             "f: nodes[1] (planar_node)",
         )
@@ -235,6 +251,7 @@ mod tests {
             assert!(e.message.contains(n), "'{n}' not in {e}");
         }
         let e = check(
+            &CommonConfig::default(),
             yaml("tracks: [{name: a, geometry: [{line: {start: [0, 0]}}]}]"),
             "f",
         )

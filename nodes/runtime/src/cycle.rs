@@ -200,7 +200,17 @@ impl Wake {
 /// Where the cycle sends command events: every event to the status stream, and each command's
 /// events also to the caller that asked to watch it (an action goal, a test).
 pub struct EventSink {
-    all: tmpsc::UnboundedSender<CommandEvent>,
+    all: tmpsc::UnboundedSender<TimedEvent>,
+}
+
+/// A command event with the ROS time of the cycle it happened in (the stamp of that cycle's
+/// state): stamps of `~/command_status` do not depend on when a task gets to publish them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimedEvent {
+    /// The event.
+    pub event: CommandEvent,
+    /// ROS time of the state after the cycle that produced it [ns].
+    pub ros_time_ns: i64,
 }
 
 impl<E: Engine> Controller<E> {
@@ -210,7 +220,7 @@ impl<E: Engine> Controller<E> {
         engine: E,
         config: CycleConfig,
         reply_id: ReplyId<E>,
-    ) -> std::io::Result<(Self, tmpsc::UnboundedReceiver<CommandEvent>)> {
+    ) -> std::io::Result<(Self, tmpsc::UnboundedReceiver<TimedEvent>)> {
         assert!(
             config.period.is_finite() && config.period > 0.0,
             "period validated by config"
@@ -766,8 +776,12 @@ impl<E: Engine> CycleThread<E> {
         if self.events.iter().any(|e| e.state.is_final()) {
             self.take_snapshot();
         }
+        let ros_time_ns = self.clock.at(self.cycle as f64 * self.config.period);
         for ev in self.events.drain(..) {
-            let _ = self.sink.all.send(ev);
+            let _ = self.sink.all.send(TimedEvent {
+                event: ev,
+                ros_time_ns,
+            });
             if let Some(w) = self.watchers.get(&ev.id) {
                 let _ = w.send(ev);
                 if ev.state.is_final() {

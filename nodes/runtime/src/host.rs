@@ -54,9 +54,10 @@ pub struct CommonConfig {
 }
 
 /// One step of a node's command script: at simulated time `at` [s] (the cycle
-/// `round(at / cycle_period)`), the engine command `command` (as the engine spells it, e.g.
-/// `{MoveAbsolute: {axis: x, position: 100.0, velocity: 500.0, ...}}`) is applied before that
-/// cycle's step, exactly as a client's call in that cycle would be. Steps run in the order of
+/// `round(at / cycle_period)`), the engine command `command` (as the engine spells it, in map
+/// form `{MoveAbsolute: {axis: x, position: 100.0, velocity: 500.0, ...}}` or tag form
+/// `!MoveAbsolute {...}`) is applied before that cycle's step, exactly as a client's call in
+/// that cycle would be. Steps run in the order of
 /// their times (the listed order among equal times); a rejected step is logged with its error
 /// id and the script goes on.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -247,10 +248,17 @@ impl CommonConfig {
     ) -> Result<Vec<(u64, C)>, ConfigError> {
         let mut out = Vec::with_capacity(self.script.len());
         for (i, step) in self.script.iter().enumerate() {
-            let cmd = from_value(
-                step.command.clone(),
-                &format!("{location}.script[{i}].command"),
-            )?;
+            let at = format!("{location}.script[{i}].command");
+            // `!Variant {..}` (serde_yaml's tag form) or `{Variant: {..}}` (the map form).
+            let cmd = if matches!(step.command, serde_yaml::Value::Tagged(_)) {
+                from_value(step.command.clone(), &at)?
+            } else {
+                serde_yaml::with::singleton_map_recursive::deserialize(step.command.clone())
+                    .map_err(|e| ConfigError {
+                        location: at,
+                        message: e.to_string(),
+                    })?
+            };
             out.push(((step.at / self.cycle_period).round() as u64, cmd));
         }
         // Stable: equal times keep the listed order.
@@ -520,5 +528,51 @@ impl<E: Engine> crate::launch::Running for NodeHost<E> {
     }
     fn as_any(&self) -> &dyn std::any::Any {
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Debug, PartialEq, Deserialize)]
+    enum Cmd {
+        Move { to: f64 },
+        Stop,
+    }
+
+    fn script(text: &str) -> CommonConfig {
+        CommonConfig {
+            cycle_period: 0.002,
+            script: serde_yaml::from_str(text).unwrap(),
+            ..Default::default()
+        }
+    }
+
+    /// Map and tag form, times rounded to cycles, running order by time (stable).
+    #[test]
+    fn script_steps_become_commands_at_their_cycles() {
+        let c = script(
+            "[{at: 0.1, command: {Move: {to: 5.0}}}, {at: 0.0031, command: !Move {to: 1.0}}, \
+             {at: 0.1, command: Stop}]",
+        );
+        let steps = c.script_commands::<Cmd>("f: nodes[0]").unwrap();
+        assert_eq!(
+            steps,
+            vec![
+                (2, Cmd::Move { to: 1.0 }),
+                (50, Cmd::Move { to: 5.0 }),
+                (50, Cmd::Stop)
+            ]
+        );
+        let e = script("[{at: 0, command: {Jump: {}}}]")
+            .script_commands::<Cmd>("f: nodes[0]")
+            .unwrap_err();
+        assert_eq!(e.location, "f: nodes[0].script[0].command");
+        assert!(
+            e.message.contains("unknown variant `Jump`"),
+            "{}",
+            e.message
+        );
     }
 }

@@ -81,7 +81,7 @@ pub type StartFn =
     fn(&CommonConfig, serde_yaml::Value, &str, u16) -> Result<RunningNode, StartError>;
 
 /// Checks the engine part of an entry without starting anything (`--check`).
-pub type CheckFn = fn(serde_yaml::Value, &str) -> Result<(), ConfigError>;
+pub type CheckFn = fn(&CommonConfig, serde_yaml::Value, &str) -> Result<(), ConfigError>;
 
 /// A node kind the launcher knows.
 #[derive(Clone, Copy)]
@@ -446,7 +446,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
                 .find(|k| k.kind == e.kind)
                 .expect("checked by load");
             if args.check {
-                if let Err(err) = (kind.check)(e.engine.clone(), &e.location) {
+                if let Err(err) = (kind.check)(&e.common, e.engine.clone(), &e.location) {
                     eprintln!("{program}: configuration error: {err}");
                     return 2;
                 }
@@ -578,7 +578,7 @@ mod tests {
     ) -> Result<RunningNode, StartError> {
         Ok(Box::new(Nothing))
     }
-    fn no_check(_: serde_yaml::Value, _: &str) -> Result<(), ConfigError> {
+    fn no_check(_: &CommonConfig, _: serde_yaml::Value, _: &str) -> Result<(), ConfigError> {
         Ok(())
     }
     const KINDS: &[NodeKind] = &[NodeKind {

@@ -186,7 +186,7 @@ pub struct NodeShell<E: Engine> {
     tasks: TaskSet,
     spinner: Option<JoinHandle<()>>,
     /// Copies of the command events with their labels (see [`NodeShell::command_event_tap`]).
-    taps: Vec<tokio::sync::mpsc::UnboundedSender<(CommandEvent, CommandLabel)>>,
+    taps: Vec<tokio::sync::mpsc::UnboundedSender<(CommandEvent, CommandLabel, i64)>>,
     /// The state publishers' inputs in stream mode (fed by [`NodeShell::start_common`]).
     streams: Vec<StreamSender<E>>,
     /// Per stream publisher: the cycle of the last snapshot it published + 1 (0: none yet).
@@ -374,7 +374,7 @@ where
     /// (1 Hz), and in lockstep mode `/clock` and `~/step`.
     pub fn start_common(
         &mut self,
-        events: UnboundedReceiver<CommandEvent>,
+        events: UnboundedReceiver<crate::cycle::TimedEvent>,
     ) -> Result<(), ShellError> {
         let spinner = self.node.spinner().map_err(err("spinner"))?;
         self.spinner = Some(tokio::spawn(async move {
@@ -416,11 +416,12 @@ where
         });
     }
 
-    /// A copy of every command event, with its label, in the order `~/command_status`
-    /// publishes them (e.g. for a node's own event stream). Call before the node starts.
+    /// A copy of every command event, with its label and the ROS time of its cycle [ns], in
+    /// the order `~/command_status` publishes them (e.g. for a node's own event stream). Call
+    /// before the node starts.
     pub fn command_event_tap(
         &mut self,
-    ) -> tokio::sync::mpsc::UnboundedReceiver<(CommandEvent, CommandLabel)> {
+    ) -> tokio::sync::mpsc::UnboundedReceiver<(CommandEvent, CommandLabel, i64)> {
         let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
         self.taps.push(tx);
         rx
@@ -428,7 +429,7 @@ where
 
     fn spawn_command_status(
         &mut self,
-        mut events: UnboundedReceiver<CommandEvent>,
+        mut events: UnboundedReceiver<crate::cycle::TimedEvent>,
     ) -> Result<(), ShellError> {
         let name = private_name(&self.settings, "command_status")?;
         let topic = self
@@ -441,18 +442,17 @@ where
             .map_err(err("publisher"))?;
         let publisher = RecordedPublisher::new(publisher, name);
         let registry = self.registry.clone();
-        let handle = self.handle.clone();
         let taps = std::mem::take(&mut self.taps);
         self.tasks.spawn(async move {
-            while let Some(ev) = events.recv().await {
+            while let Some(timed) = events.recv().await {
+                let (ev, at) = (timed.event, timed.ros_time_ns);
                 let label = registry.label(&ev);
                 for t in &taps {
-                    let _ = t.send((ev, label.clone()));
+                    let _ = t.send((ev, label.clone(), at));
                 }
                 let o = motion_core::ExecuteOutputs::from(ev.state);
-                let snap = handle.snapshot();
                 let msg = CommandStatus {
-                    stamp: stamp(&snap),
+                    stamp: stamp_ns(at),
                     command_id: ev.id.0,
                     object: label.object,
                     command: label.command,
@@ -468,7 +468,7 @@ where
                         String::new()
                     },
                 };
-                if let Err(e) = publisher.publish(msg, snap.ros_time_ns).await {
+                if let Err(e) = publisher.publish(msg, at).await {
                     tracing::warn!("command_status publish failed: {e:?}");
                 }
             }

@@ -203,8 +203,8 @@ fn events_reach_the_watcher_and_the_status_stream() {
         );
         // The watcher is dropped after the final event.
         assert!(events.recv().await.is_none());
-        assert_eq!(all.recv().await.unwrap().state, CommandState::Active);
-        assert_eq!(all.recv().await.unwrap().state, CommandState::Done);
+        assert_eq!(all.recv().await.unwrap().event.state, CommandState::Active);
+        assert_eq!(all.recv().await.unwrap().event.state, CommandState::Done);
     });
 }
 
@@ -391,7 +391,11 @@ fn a_custom_cycle_replaces_one_step_after_the_commands_before_it() {
         assert!((pos - 0.2).abs() < 1e-12, "{pos}");
         // Exactly one cycle ran.
         assert_eq!(h.step(0).await.unwrap(), 1);
-        assert_eq!(events.recv().await.unwrap().id, CmdId(77));
+        // Stamped with the time of the state after the cycle that produced it.
+        let ev = events.recv().await.unwrap();
+        assert_eq!(ev.event.id, CmdId(77));
+        assert_eq!(h.snapshot().cycle, 1);
+        assert_eq!(ev.ros_time_ns, h.snapshot().ros_time_ns);
         // A normal step afterwards.
         h.step(1).await.unwrap();
         assert!((h.snapshot().state.0 - 0.3).abs() < 1e-12);
