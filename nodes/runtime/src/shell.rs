@@ -16,7 +16,7 @@ use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::deps::diagnostic_msgs::msg::{DiagnosticArray, DiagnosticStatus, KeyValue};
 use motion_msgs::deps::rosgraph_msgs::msg::Clock;
 use motion_msgs::deps::std_msgs::msg::Header;
-use motion_msgs::msg::CommandStatus;
+use motion_msgs::msg::{CommandStatus, CycleStats as CycleStatsMsg};
 use motion_msgs::srv::{StepCycles, StepCyclesRequest, StepCyclesResponse};
 use ros2_client::action::{ActionServerQosPolicies, AsyncActionServer, GoalEndStatus};
 use ros2_client::{
@@ -512,6 +512,16 @@ where
             .create_publisher::<DiagnosticArray>(&topic, None)
             .map_err(err("publisher"))?;
         let publisher = RecordedPublisher::new(publisher, "/diagnostics");
+        let name = private_name(&self.settings, "cycle_stats")?;
+        let topic = self
+            .node
+            .create_topic(&name, CycleStatsMsg::type_name(), &topic_qos())
+            .map_err(err("topic"))?;
+        let stats_publisher = self
+            .node
+            .create_publisher::<CycleStatsMsg>(&topic, None)
+            .map_err(err("publisher"))?;
+        let stats_publisher = RecordedPublisher::new(stats_publisher, name);
         let handle = self.handle.clone();
         let node_name = self.settings.node_name.clone();
         self.tasks.spawn(async move {
@@ -523,6 +533,10 @@ where
                 let msg = diagnostics_message(&node_name, &stats, stamp(&snap));
                 if let Err(e) = publisher.publish(msg, snap.ros_time_ns).await {
                     tracing::warn!("diagnostics publish failed: {e:?}");
+                }
+                let msg = cycle_stats_message(&stats, stamp(&snap));
+                if let Err(e) = stats_publisher.publish(msg, snap.ros_time_ns).await {
+                    tracing::warn!("cycle_stats publish failed: {e:?}");
                 }
             }
         });
@@ -1306,6 +1320,27 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
         _ => GoalEndStatus::Aborted,
     };
     (status, result)
+}
+
+/// `~/cycle_stats`: the controller's statistics with their histograms.
+pub fn cycle_stats_message(s: &CycleStats, stamp: Time) -> CycleStatsMsg {
+    CycleStatsMsg {
+        stamp,
+        node: s.node.clone(),
+        period: s.period,
+        cycles: s.cycles,
+        overruns: s.overruns,
+        exec_mean: s.exec_mean,
+        exec_p99: s.exec_p99,
+        exec_max: s.exec_max,
+        jitter_mean: s.jitter_mean,
+        jitter_p99: s.jitter_p99,
+        jitter_max: s.jitter_max,
+        lockstep: s.lockstep,
+        jitter_p50: s.jitter_p50,
+        exec_histogram: s.exec_histogram.clone(),
+        jitter_histogram: s.jitter_histogram.clone(),
+    }
 }
 
 /// `/diagnostics` message of a node's cycle statistics.

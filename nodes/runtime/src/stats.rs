@@ -35,6 +35,11 @@ pub struct CycleStats {
     pub jitter_p99: f64,
     /// See `jitter_mean`.
     pub jitter_max: f64,
+    /// Cycles per 1 µs bucket of execution time from 0 (the last bucket also holds all longer
+    /// ones); trailing empty buckets left out.
+    pub exec_histogram: Vec<u32>,
+    /// The same for the wake-up lateness.
+    pub jitter_histogram: Vec<u32>,
 }
 
 impl CycleStats {
@@ -104,6 +109,18 @@ impl Histogram {
         self.max
     }
 
+    /// The bucket counts up to the last non-empty one, into `out` (which keeps its capacity:
+    /// no allocation once it has grown).
+    pub fn counts_into(&self, out: &mut Vec<u32>) {
+        let end = self
+            .counts
+            .iter()
+            .rposition(|&c| c > 0)
+            .map_or(0, |i| i + 1);
+        out.clear();
+        out.extend_from_slice(&self.counts[..end]);
+    }
+
     /// The q-quantile (0..1), as the upper edge of its bucket, never above the maximum.
     pub fn quantile(&self, q: f64) -> f64 {
         if self.n == 0 {
@@ -168,6 +185,8 @@ impl StatsRecorder {
         s.jitter_p50 = self.jitter.quantile(0.5);
         s.jitter_p99 = self.jitter.quantile(0.99);
         s.jitter_max = self.jitter.max();
+        self.exec.counts_into(&mut s.exec_histogram);
+        self.jitter.counts_into(&mut s.jitter_histogram);
     }
 }
 
@@ -194,6 +213,21 @@ mod tests {
         );
         assert!((h.max() - 999.5e-6).abs() < 1e-12);
         assert!((h.mean() - 500e-6).abs() < 1e-9);
+    }
+
+    #[test]
+    fn histogram_counts_end_at_the_last_sample() {
+        let mut h = Histogram::default();
+        for v in [0.2e-6, 0.7e-6, 3.5e-6] {
+            h.add(v);
+        }
+        let mut out = vec![9; 10];
+        h.counts_into(&mut out);
+        assert_eq!(out, [2, 0, 0, 1]);
+        h.add(1.0); // beyond the last bucket: counted there
+        h.counts_into(&mut out);
+        assert_eq!(out.len(), BUCKETS);
+        assert_eq!(out[BUCKETS - 1], 1);
     }
 
     #[test]
