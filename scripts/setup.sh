@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what the demo and the tests need, only what is missing (idempotent):
 # Debian packages (ROS's interface parser, iproute2 for the private network namespace,
-# nftables for the lossy-link tests),
+# nftables for the lossy-link tests, DejaVu fonts for motion_plot),
 # Python packages (cyclonedds: an independent DDS peer; ruckig: trajectory oracle; pyyaml;
 # mcap-ros2-support: the MCAP/ros2msg reader that checks our message definitions).
 # The test command also builds the ROS 2 Jazzy venv of the rclpy suite (scripts/ros-venv.sh).
@@ -13,6 +13,8 @@ need_apt=()
 command -v ip >/dev/null || need_apt+=(iproute2)
 command -v unshare >/dev/null || need_apt+=(util-linux)
 command -v nft >/dev/null || need_apt+=(nftables)   # lossy-link tests inside the namespace
+# motion_plot writes its figures' text with DejaVu Sans.
+[ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || need_apt+=(fonts-dejavu-core)
 if [ ${#need_apt[@]} -gt 0 ]; then
   echo "setup: installing Debian packages: ${need_apt[*]}"
   $SUDO apt-get update -qq

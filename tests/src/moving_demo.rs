@@ -1,6 +1,6 @@
 //! The demo machine moving by itself: `launch-configs/demo.yaml` with a command script per node
-//! (`script:` in its entry), so tests see motion without a client: the live view test and the
-//! replay-determinism test.
+//! (`script:` in its entry), so tests see motion without a client: the live view test, the
+//! replay-determinism test and the plot test.
 
 use axis_engine::Power;
 use axis_engine::{AxisCommand, BufferMode, Direction, MoveAbsolute, MoveOptions, MoveVelocity};
@@ -114,6 +114,30 @@ fn planar_script(seconds: f64) -> Vec<Value> {
     s
 }
 
+/// The pick-and-place cell: on, regulator on, its endless tracking mode (eSetTarget 0) at
+/// 0.5 s, and a workpiece detected on belt 1 every 2 s from 0.6 s (as the demo's driver does).
+fn pickplace_script(seconds: f64) -> Vec<Value> {
+    use pickplace_engine::PickPlaceCommand as P;
+    let mut s = vec![
+        step(0.0, P::SetEnable(true)),
+        step(0.0, P::SetRegulatorOn(true)),
+        step(0.5, P::Execute { set_target: 0 }),
+    ];
+    let mut t = 0.6;
+    while t < seconds {
+        s.push(step(
+            t,
+            P::DetectWorkpiece {
+                belt: 1,
+                position: [0.0; 6],
+                valid_delay_cycles: 0,
+            },
+        ));
+        t += 2.0;
+    }
+    s
+}
+
 /// The demo config as YAML text with the scripts for `seconds` of motion; `live` = the
 /// config's `live` key (None: no feed); `lockstep`: every node in simulated time.
 pub fn config(seconds: f64, live: Option<Value>, lockstep: bool) -> String {
@@ -134,6 +158,7 @@ pub fn config(seconds: f64, live: Option<Value>, lockstep: bool) -> String {
         let script = match n.get("kind").and_then(Value::as_str) {
             Some("axis_node") => axis_script(seconds),
             Some("planar_node") => planar_script(seconds),
+            Some("pickplace_node") => pickplace_script(seconds),
             _ => Vec::new(),
         };
         if !script.is_empty() {
@@ -143,5 +168,65 @@ pub fn config(seconds: f64, live: Option<Value>, lockstep: bool) -> String {
             n.insert("lockstep".into(), true.into());
         }
     }
+    serde_yaml::to_string(&root).expect("YAML")
+}
+
+/// `launch-configs/ca_ring.yaml` in lockstep with a script: the three movers powered and
+/// grouped (m1 front, m3 rear), the group enabled; m1 drives to 1500 mm and m3 to 1400 mm at
+/// 500 mm/s (gap control keeps m3 and m2, which stands at 500 mm, 100 mm apart), so the
+/// gaps change and one is held at its target.
+pub fn ca_ring_config() -> String {
+    use axis_engine::ca::{CaCommand, IdentInGroup, McLreal, MoveAbsoluteCa};
+    let text = std::fs::read_to_string(crate::workspace().join("launch-configs/ca_ring.yaml"))
+        .expect("ca_ring.yaml");
+    let mut root: Value = serde_yaml::from_str(&text).expect("ca_ring.yaml parses");
+    let mut script = Vec::new();
+    for (i, m) in ["m1", "m2", "m3"].iter().enumerate() {
+        script.push(step(
+            0.0,
+            AxisCommand::Power(Power {
+                axis: m.to_string(),
+                enable: true,
+                enable_positive: true,
+                enable_negative: true,
+                override_percent: 100.0,
+                buffer_mode: BufferMode::Aborting,
+            }),
+        ));
+        script.push(step(
+            0.005,
+            AxisCommand::Ca(CaCommand::AddAxisToGroup {
+                group: "ring".into(),
+                axis: m.to_string(),
+                ident_in_group: IdentInGroup(i as u32 + 1),
+            }),
+        ));
+    }
+    script.push(step(
+        0.01,
+        AxisCommand::Ca(CaCommand::GroupEnable {
+            group: "ring".into(),
+        }),
+    ));
+    for (m, to) in [("m1", 1500.0), ("m3", 1400.0)] {
+        script.push(step(
+            0.1,
+            AxisCommand::Ca(CaCommand::MoveAbsolute(MoveAbsoluteCa {
+                axis: m.into(),
+                position: McLreal::Value(to),
+                velocity: McLreal::Value(500.0),
+                gap: McLreal::Default,
+                ..Default::default()
+            })),
+        ));
+    }
+    let node = root
+        .get_mut("nodes")
+        .and_then(Value::as_sequence_mut)
+        .and_then(|n| n.first_mut())
+        .and_then(Value::as_mapping_mut)
+        .expect("the axis node");
+    node.insert("script".into(), Value::Sequence(script));
+    node.insert("lockstep".into(), true.into());
     serde_yaml::to_string(&root).expect("YAML")
 }

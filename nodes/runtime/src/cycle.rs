@@ -109,7 +109,19 @@ enum Request<E: Engine> {
     Cycle(CustomStep<E>),
     /// The node's command script: (cycle, command) in running order (see
     /// [`ControllerHandle::load_script`]).
-    Script(Vec<(u64, E::Command)>),
+    Script(Vec<ScriptedCommand<E::Command>>),
+}
+
+/// A command of a node's script: applied before the step of cycle `cycle`; its events carry
+/// `label` on `~/command_status` like a client's call.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScriptedCommand<C> {
+    /// The cycle it runs before.
+    pub cycle: u64,
+    /// The engine command.
+    pub command: C,
+    /// Object and command name for `~/command_status`.
+    pub label: CommandLabel,
 }
 
 /// A cycle run by the caller's closure instead of `Engine::step`: it gets the engine, the
@@ -467,7 +479,7 @@ impl<E: Engine> ControllerHandle<E> {
 
     /// Loads the node's command script: each (cycle, command) is applied before that cycle's
     /// step (steps already due run before the next cycle), in the given order.
-    pub fn load_script(&self, steps: Vec<(u64, E::Command)>) -> Result<(), Rejection> {
+    pub fn load_script(&self, steps: Vec<ScriptedCommand<E::Command>>) -> Result<(), Rejection> {
         if steps.is_empty() {
             return Ok(());
         }
@@ -587,7 +599,7 @@ struct CycleThread<E: Engine> {
     /// is gone.
     stream: Option<tmpsc::Sender<Arc<Stamped<E::Snapshot>>>>,
     /// The command script's steps still to run: (cycle, command), in running order.
-    script: VecDeque<(u64, E::Command)>,
+    script: VecDeque<ScriptedCommand<E::Command>>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -709,6 +721,8 @@ impl<E: Engine> CycleThread<E> {
                     front.0 -= 1;
                     if front.0 == 0 {
                         self.snapshot_current();
+                        // The statistics of a finished step count every cycle of it.
+                        self.publish_stats();
                         if let Some((_, reply)) = pending.pop_front() {
                             let _ = reply.send(self.cycle);
                         }
@@ -850,18 +864,25 @@ impl<E: Engine> CycleThread<E> {
     /// The script's steps due before this cycle's step, applied as a client's calls would be
     /// (their events go to `~/command_status` like any other command's).
     fn run_script(&mut self) {
-        while self.script.front().is_some_and(|(at, _)| *at <= self.cycle) {
-            let Some((_, cmd)) = self.script.pop_front() else {
+        while self.script.front().is_some_and(|s| s.cycle <= self.cycle) {
+            let Some(step) = self.script.pop_front() else {
                 break;
             };
-            if let Err(r) = self.engine.command(cmd) {
-                tracing::warn!(
-                    node = %self.config.name,
-                    cycle = self.cycle,
-                    error_id = r.error_id.0,
-                    "script step rejected: {}",
-                    r.message
-                );
+            match self.engine.command(step.command) {
+                Ok(reply) => {
+                    if let Some(id) = (self.reply_id)(&reply) {
+                        self.labels.insert(id, step.label);
+                    }
+                }
+                Err(r) => {
+                    tracing::warn!(
+                        node = %self.config.name,
+                        cycle = self.cycle,
+                        error_id = r.error_id.0,
+                        "script step rejected: {}",
+                        r.message
+                    );
+                }
             }
         }
     }

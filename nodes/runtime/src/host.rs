@@ -53,6 +53,55 @@ pub struct CommonConfig {
     pub script: Vec<ScriptStep>,
 }
 
+/// The `~/command_status` label of a script command, read off its YAML: the innermost variant
+/// name in snake_case (`MoveAbsolute` -> `move_absolute`, as the services name FBs) and the
+/// value of its first object field (axis, mover, group, track, belt, part).
+fn script_label(command: &serde_yaml::Value) -> crate::shell::CommandLabel {
+    use serde_yaml::Value;
+    let mut label = crate::shell::CommandLabel::default();
+    let mut v = command;
+    loop {
+        let (name, inner) = match v {
+            Value::Tagged(t) => (
+                t.tag.to_string().trim_start_matches('!').to_string(),
+                &t.value,
+            ),
+            Value::Mapping(m) if m.len() == 1 => match m.iter().next() {
+                Some((Value::String(k), inner)) if k.starts_with(char::is_uppercase) => {
+                    (k.clone(), inner)
+                }
+                _ => break,
+            },
+            Value::String(k) if k.starts_with(char::is_uppercase) => (k.clone(), &Value::Null),
+            _ => break,
+        };
+        label.command = snake_case(&name);
+        v = inner;
+    }
+    if let Value::Mapping(m) = v {
+        for key in ["axis", "mover", "group", "track", "belt", "part"] {
+            match m.get(key) {
+                Some(Value::String(o)) => label.object = o.clone(),
+                Some(Value::Number(n)) => label.object = n.to_string(),
+                _ => continue,
+            }
+            break;
+        }
+    }
+    label
+}
+
+fn snake_case(name: &str) -> String {
+    let mut out = String::with_capacity(name.len() + 4);
+    for (i, c) in name.chars().enumerate() {
+        if c.is_uppercase() && i > 0 {
+            out.push('_');
+        }
+        out.extend(c.to_lowercase());
+    }
+    out
+}
+
 /// One step of a node's command script: at simulated time `at` [s] (the cycle
 /// `round(at / cycle_period)`), the engine command `command` (as the engine spells it, in map
 /// form `{MoveAbsolute: {axis: x, position: 100.0, velocity: 500.0, ...}}` or tag form
@@ -240,17 +289,18 @@ impl CommonConfig {
         }
     }
 
-    /// The script as engine commands with the cycle each runs before, in running order; a
-    /// command the engine cannot read is a configuration error naming its step.
+    /// The script as engine commands with the cycle each runs before and its label, in
+    /// running order; a command the engine cannot read is a configuration error naming its
+    /// step.
     pub fn script_commands<C: serde::de::DeserializeOwned>(
         &self,
         location: &str,
-    ) -> Result<Vec<(u64, C)>, ConfigError> {
+    ) -> Result<Vec<crate::cycle::ScriptedCommand<C>>, ConfigError> {
         let mut out = Vec::with_capacity(self.script.len());
         for (i, step) in self.script.iter().enumerate() {
             let at = format!("{location}.script[{i}].command");
             // `!Variant {..}` (serde_yaml's tag form) or `{Variant: {..}}` (the map form).
-            let cmd = if matches!(step.command, serde_yaml::Value::Tagged(_)) {
+            let command = if matches!(step.command, serde_yaml::Value::Tagged(_)) {
                 from_value(step.command.clone(), &at)?
             } else {
                 serde_yaml::with::singleton_map_recursive::deserialize(step.command.clone())
@@ -259,10 +309,14 @@ impl CommonConfig {
                         message: e.to_string(),
                     })?
             };
-            out.push(((step.at / self.cycle_period).round() as u64, cmd));
+            out.push(crate::cycle::ScriptedCommand {
+                cycle: (step.at / self.cycle_period).round() as u64,
+                command,
+                label: script_label(&step.command),
+            });
         }
         // Stable: equal times keep the listed order.
-        out.sort_by_key(|(cycle, _)| *cycle);
+        out.sort_by_key(|s| s.cycle);
         Ok(out)
     }
 
@@ -556,14 +610,32 @@ mod tests {
             "[{at: 0.1, command: {Move: {to: 5.0}}}, {at: 0.0031, command: !Move {to: 1.0}}, \
              {at: 0.1, command: Stop}]",
         );
-        let steps = c.script_commands::<Cmd>("f: nodes[0]").unwrap();
+        let steps: Vec<(u64, Cmd, String)> = c
+            .script_commands::<Cmd>("f: nodes[0]")
+            .unwrap()
+            .into_iter()
+            .map(|s| (s.cycle, s.command, s.label.command))
+            .collect();
         assert_eq!(
             steps,
             vec![
-                (2, Cmd::Move { to: 1.0 }),
-                (50, Cmd::Move { to: 5.0 }),
-                (50, Cmd::Stop)
+                (2, Cmd::Move { to: 1.0 }, "move".into()),
+                (50, Cmd::Move { to: 5.0 }, "move".into()),
+                (50, Cmd::Stop, "stop".into())
             ]
+        );
+        // Labels: the innermost variant in snake_case and the object named in it.
+        let l = script_label(
+            &serde_yaml::from_str("{Ca: {MoveAbsolute: {axis: m1, position: 5}}}").unwrap(),
+        );
+        assert_eq!(
+            (l.object.as_str(), l.command.as_str()),
+            ("m1", "move_absolute")
+        );
+        let l = script_label(&serde_yaml::from_str("!MoverEnable {mover: m2}").unwrap());
+        assert_eq!(
+            (l.object.as_str(), l.command.as_str()),
+            ("m2", "mover_enable")
         );
         let e = script("[{at: 0, command: {Jump: {}}}]")
             .script_commands::<Cmd>("f: nodes[0]")

@@ -14,7 +14,9 @@ pub mod rt;
 pub mod signals;
 pub mod stats;
 
-pub use cycle::{ClockMode, Controller, ControllerHandle, CycleConfig, Stamped, TimedEvent};
+pub use cycle::{
+    ClockMode, Controller, ControllerHandle, CycleConfig, ScriptedCommand, Stamped, TimedEvent,
+};
 pub use stats::CycleStats;
 pub mod logging;
 pub mod shell;

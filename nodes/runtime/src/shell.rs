@@ -138,7 +138,7 @@ pub struct ShellSettings {
 }
 
 /// Names of the command behind a [`CmdId`], for `~/command_status`.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CommandLabel {
     /// Axis, mover, group, part or belt name.
     pub object: String,
@@ -191,6 +191,9 @@ pub struct NodeShell<E: Engine> {
     streams: Vec<StreamSender<E>>,
     /// Per stream publisher: the cycle of the last snapshot it published + 1 (0: none yet).
     stream_published: Vec<tokio::sync::watch::Receiver<u64>>,
+    /// Asks the statistics task to publish `/diagnostics` and `~/cycle_stats` now; it answers
+    /// when they are out.
+    stats_now: Option<tokio::sync::mpsc::UnboundedSender<tokio::sync::oneshot::Sender<()>>>,
 }
 
 /// One state publisher's input of stream snapshots.
@@ -367,6 +370,7 @@ where
             taps: Vec::new(),
             streams: Vec::new(),
             stream_published: Vec::new(),
+            stats_now: None,
         })
     }
 
@@ -524,10 +528,16 @@ where
         let stats_publisher = RecordedPublisher::new(stats_publisher, name);
         let handle = self.handle.clone();
         let node_name = self.settings.node_name.clone();
+        let (now_tx, mut now_rx) =
+            tokio::sync::mpsc::unbounded_channel::<tokio::sync::oneshot::Sender<()>>();
+        self.stats_now = Some(now_tx);
         self.tasks.spawn(async move {
             let mut tick = tokio::time::interval(Duration::from_secs(1));
             loop {
-                tick.tick().await;
+                let done = tokio::select! {
+                    _ = tick.tick() => None,
+                    asked = now_rx.recv() => asked,
+                };
                 let stats = handle.stats();
                 let snap = handle.snapshot();
                 let msg = diagnostics_message(&node_name, &stats, stamp(&snap));
@@ -537,6 +547,9 @@ where
                 let msg = cycle_stats_message(&stats, stamp(&snap));
                 if let Err(e) = stats_publisher.publish(msg, snap.ros_time_ns).await {
                     tracing::warn!("cycle_stats publish failed: {e:?}");
+                }
+                if let Some(done) = done {
+                    let _ = done.send(());
                 }
             }
         });
@@ -996,7 +1009,8 @@ where
     }
 
     /// Stream mode: a future that ends once every state publisher has published the snapshot
-    /// of cycle `cycle` (at most `timeout`), so that a node stopped after its last lockstep
+    /// of cycle `cycle` and the statistics went out once more (at most `timeout`), so that a
+    /// recording holds the last statistics and a node stopped after its last lockstep
     /// step loses none of its cycles. Ends at once without a stream.
     pub fn states_flushed(
         &self,
@@ -1004,11 +1018,19 @@ where
         timeout: Duration,
     ) -> impl Future<Output = ()> + Send + 'static {
         let mut published = self.stream_published.clone();
+        let stats_now = self.stats_now.clone();
         async move {
             let all = async {
                 for p in &mut published {
                     // An ended publisher (node stopping) has nothing more to publish.
                     let _ = p.wait_for(|&c| c > cycle).await;
+                }
+                // The statistics as they stand after the last cycle.
+                if let Some(now) = stats_now {
+                    let (tx, rx) = tokio::sync::oneshot::channel();
+                    if now.send(tx).is_ok() {
+                        let _ = rx.await;
+                    }
                 }
             };
             let _ = tokio::time::timeout(timeout, all).await;
