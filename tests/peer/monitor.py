@@ -61,6 +61,8 @@ def main():
     ap.add_argument("--duration", type=float, default=None)
     ap.add_argument("--no-driver", action="store_true",
                     help="only print: leave the axes, movers and the cell to your own commands")
+    ap.add_argument("--web-bridge", metavar="DIR:PORTS", default=None,
+                    help="run the inside half of tests/peer/web_bridge.py (the live view)")
     args = ap.parse_args()
     # This peer speaks the Cyclone request/reply mapping; the nodes take theirs from
     # RMW_IMPLEMENTATION (demo.sh sets rmw_cyclonedds_cpp unless you chose another).
@@ -72,6 +74,11 @@ def main():
     print(NEXT_STEPS if not args.no_driver else
           "Demo machine without driver: it does only what you command (README).", flush=True)
 
+    bridge = None
+    if args.web_bridge:
+        d, ports = args.web_bridge.rsplit(":", 1)
+        bridge = subprocess.Popen([sys.executable, os.path.join(os.path.dirname(__file__), "web_bridge.py"),
+                                   "inside", "--dir", d, "--ports", ports])
     proc = subprocess.Popen([args.launch, args.config])
     stop = {"now": False}
     signal.signal(signal.SIGTERM, lambda *_: stop.update(now=True))
@@ -104,6 +111,8 @@ def main():
     except KeyboardInterrupt:
         pass
     finally:
+        if bridge:
+            bridge.terminate()
         proc.send_signal(signal.SIGINT)
         try:
             proc.wait(timeout=10)
