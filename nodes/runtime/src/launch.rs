@@ -515,6 +515,8 @@ async fn run_cycles(
     shutdown: &crate::signals::Shutdown,
 ) -> Result<(), String> {
     const BATCH: u64 = 1000;
+    // No client listens to a run that steps itself: record and feed the live view only.
+    crate::record::set_record_only(true);
     let t0 = std::time::Instant::now();
     let mut done = 0;
     let mut cycles = vec![0; running.len()];

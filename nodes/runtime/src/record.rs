@@ -161,6 +161,17 @@ enum Entry {
 
 static RECORDER: std::sync::OnceLock<Recorder> = std::sync::OnceLock::new();
 
+/// Set for `--cycles` runs: the nodes' publishers record (and feed the live view) but do not
+/// write to DDS, where no client of such a run listens; publishing there is most of a
+/// lockstep cycle's cost.
+static RECORD_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Publishers of this process stop (true) or resume (false) writing to DDS; recording and the
+/// live feed go on.
+pub fn set_record_only(on: bool) {
+    RECORD_ONLY.store(on, std::sync::atomic::Ordering::Relaxed);
+}
+
 /// Messages the writer thread may hold before publishers drop instead of waiting.
 const QUEUE: usize = 65_536;
 
@@ -182,7 +193,25 @@ pub fn start(path: &Path) -> Result<(), RecordError> {
         .spawn(move || {
             let mut written = 0u64;
             let mut failed: Option<RecordError> = None;
-            while let Ok(entry) = rx.recv() {
+            let mut drained = false;
+            loop {
+                // Take what is queued; once the queue is empty, let it fill for a millisecond
+                // before blocking again: a publisher then wakes this thread about once per
+                // millisecond, not once per message (waking was most of a lockstep cycle).
+                let entry = match rx.try_recv() {
+                    Ok(e) => e,
+                    Err(std::sync::mpsc::TryRecvError::Disconnected) => break,
+                    Err(std::sync::mpsc::TryRecvError::Empty) if !drained => {
+                        drained = true;
+                        std::thread::sleep(std::time::Duration::from_millis(1));
+                        continue;
+                    }
+                    Err(std::sync::mpsc::TryRecvError::Empty) => match rx.recv() {
+                        Ok(e) => e,
+                        Err(_) => break,
+                    },
+                };
+                drained = false;
                 match entry {
                     Entry::Message {
                         topic,
@@ -309,6 +338,9 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
                 }
                 record_serialized(&self.topic, M::ROS_TYPE_NAME, stamp, data);
             }
+        }
+        if RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
+            return Ok(());
         }
         self.publisher.async_publish(msg).await
     }

@@ -1,7 +1,7 @@
 //! Benchmarks (not timed tests): figures are printed, with ratios against references measured
 //! in the same run.
 //!
-//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [tracks] [pickplace] [lockstep] [ruckig]` (default: all). `--smoke` runs short
+//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [tracks] [pickplace] [lockstep] [live] [ruckig]` (default: all). `--smoke` runs short
 //! versions (CI).
 //! - runtime: cycle jitter p50/p99/max and overruns of the cyclic controller at 1 kHz with a
 //!   trivial engine (60 s; smoke 2 s).
@@ -20,6 +20,8 @@
 //!   manual's module; cycles from an execute edge to the first moving set point.
 //! - lockstep: the axis node with 10 moving axes in lockstep, every cycle published and
 //!   recorded, as a ratio of simulated to wall time, against the bare engine (netns-run).
+//! - live: cycle execution p99 of the axis node (10 moving axes, real time) serving the live
+//!   feed, without a client and with a client reading every channel (netns-run).
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
 //!   the time-optimal duration of the PyPI `ruckig` package; limits checked at 1 ms samples.
 
@@ -32,6 +34,7 @@ use std::time::{Duration, Instant};
 use system_tests::ClientNode;
 
 mod ca;
+mod live;
 mod lockstep;
 mod pickplace;
 mod planar;
@@ -74,6 +77,7 @@ fn main() {
             "ruckig",
             "flood",
             "lockstep",
+            "live",
         ]
         .contains(&a.as_str())
     });
@@ -133,6 +137,13 @@ fn main() {
             std::process::exit(2);
         }
         lockstep::speed(if smoke { 2_000 } else { 20_000 });
+    }
+    if all || args.iter().any(|a| a == "live") {
+        if std::env::var("MOTION_IN_NETNS").as_deref() != Ok("1") {
+            eprintln!("live: run inside scripts/netns-run (it opens DDS sockets)");
+            std::process::exit(2);
+        }
+        live::cycle_cost(if smoke { 1.0 } else { 10.0 });
     }
     if all || args.iter().any(|a| a == "ruckig") {
         ruckig_ratio(if smoke { 100 } else { 1000 });
