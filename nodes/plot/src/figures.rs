@@ -183,13 +183,7 @@ fn axes<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
                 .legend(move |(x, y)| {
                     PathElement::new([(x, y), (x + 16, y)], colour(i).stroke_width(2))
                 });
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 12))
-                .draw()
-                .map_err(e)?;
+            legend(&mut chart)?;
         }
     }
     Ok(())
@@ -244,12 +238,7 @@ fn ca_gaps<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
                 .label(format!("{axis} target"))
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], c));
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(e)?;
+        legend(&mut chart)?;
     }
     Ok(())
 }
@@ -277,6 +266,19 @@ fn square_bounds(
     // At least 100 mm across: a TCP that stood still is a point in a readable frame.
     let pad = (0.05 * (x1 - x0).max(y1 - y0)).max(50.0);
     ((x0 - pad, x1 + pad), (y0 - pad, y1 + pad))
+}
+
+/// The legend box of a chart: white, framed, in the upper right.
+fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Res {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 12))
+        .draw()
+        .map_err(e)
 }
 
 fn draw_rects<DB: DrawingBackend, CT: plotters::coord::CoordTranslate<From = (f64, f64)>>(
@@ -374,12 +376,7 @@ fn planar_trails<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
                 .map_err(e)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(e)?;
+    legend(&mut chart)?;
     Ok(())
 }
 
@@ -452,12 +449,7 @@ fn pickplace_tcp<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
                 .label("TCP at start")
                 .legend(|(x, y)| Circle::new((x + 8, y), 4, RGBColor(214, 39, 40).filled()));
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(e)?;
+        legend(&mut chart)?;
     }
     Ok(())
 }
@@ -531,12 +523,7 @@ fn cycle_times<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
                 .map_err(e)?
                 .label(format!("cycles per µs of {what}"))
                 .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(e)?;
+            legend(&mut chart)?;
         }
     }
     Ok(())

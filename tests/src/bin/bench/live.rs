@@ -102,33 +102,15 @@ pub fn cycle_cost(window: f64) {
         let cfg = serde_yaml::from_str(&format!("axes: {{{}}}", axes.join(", "))).expect("yaml");
         let node = axis_node::start(&common, cfg, "bench live", 153).expect("node");
         let h = node.handle();
-        for i in 0..AXES {
-            h.call(axis_engine::AxisCommand::Power(axis_engine::Power {
-                axis: format!("a{i}"),
-                enable: true,
-                enable_positive: true,
-                enable_negative: true,
-                override_percent: 100.0,
-                buffer_mode: axis_engine::BufferMode::Aborting,
-            }))
-            .await
-            .expect("power");
+        let [power, moving]: [Vec<_>; 2] =
+            [0, 1].map(|k| (0..AXES).map(|i| super::lockstep::orders(i)[k].clone()).collect());
+        for p in power {
+            h.call(p).await.expect("power");
         }
         // Enabled a cycle after MC_Power.
         tokio::time::sleep(Duration::from_millis(50)).await;
-        for i in 0..AXES {
-            h.call(axis_engine::AxisCommand::MoveVelocity(axis_engine::MoveVelocity {
-                axis: format!("a{i}"),
-                velocity: 100.0 + 10.0 * i as f64,
-                acceleration: 0.0,
-                deceleration: 0.0,
-                jerk: 0.0,
-                direction: axis_engine::Direction::Positive,
-                buffer_mode: axis_engine::BufferMode::Aborting,
-                options: axis_engine::MoveOptions::default(),
-            }))
-            .await
-            .expect("move");
+        for m in moving {
+            h.call(m).await.expect("move");
         }
         let wait = Duration::from_secs_f64(window);
         tokio::time::sleep(Duration::from_millis(300)).await;

@@ -13,7 +13,8 @@ use std::time::Instant;
 const AXES: usize = 10;
 const TARGET: f64 = 1000.0;
 
-fn orders(i: usize) -> [AxisCommand; 2] {
+/// Power and MoveVelocity of axis `a{i}` (also the live bench's motion).
+pub(crate) fn orders(i: usize) -> [AxisCommand; 2] {
     let axis = format!("a{i}");
     [
         AxisCommand::Power(Power {
