@@ -307,6 +307,7 @@ fn cycles_refuse_real_time_nodes() {
         (vec!["--cycles", "10"], "--cycles runs lockstep nodes only"),
         (vec!["--cycles", "0"], "is not a positive whole number"),
         (vec!["--cycles", "x"], "is not a positive whole number"),
+        (vec!["--until-idle"], "--until-idle needs --cycles N"),
     ] {
         let out = Command::new(launcher_bin())
             .arg(&config)
@@ -397,4 +398,66 @@ fn a_scripted_lockstep_run_replays_bit_identically() {
     let (x, m2): (f64, f64) = (v[2].parse().unwrap(), v[5].parse().unwrap());
     assert!((x - 200.0).abs() < 1e-9, "x reached 200: {last}");
     assert!(m2 > 300.0 && m2 < 480.0, "m2 moves: {last}");
+}
+
+/// `--cycles N --until-idle`: the run stops after the first cycle in which every command has
+/// ended and every script step ran. One axis, powered at 0 s, MoveAbsolute to 100 mm at
+/// 100 mm/s from 0.1 s (axis defaults: acceleration and jerk limited, about 1.1 s): the run
+/// ends at the cycle the move reports Done, the same cycle in two runs, far before N, with
+/// the axis at 100 mm.
+#[test]
+fn until_idle_stops_when_every_command_ended() {
+    require_netns();
+    let dir = scratch_dir("motion_until_idle");
+    let config = dir.join("one_move.yaml");
+    std::fs::write(
+        &config,
+        "nodes:\n  - kind: axis_node\n    lockstep: true\n    axes: {x: {}}\n    script:\n      - {at: 0, command: {Power: {axis: x, enable: true, enable_positive: true, enable_negative: true, override_percent: 100.0, buffer_mode: Aborting}}}\n      - {at: 0.1, command: {MoveAbsolute: {axis: x, position: 100.0, velocity: 100.0, acceleration: 0, deceleration: 0, jerk: 0, buffer_mode: Aborting, options: {}}}}\n",
+    )
+    .unwrap();
+    let mut ends = Vec::new();
+    for run in 0..2 {
+        let file = dir.join(format!("run{run}.mcap"));
+        let out = Command::new(launcher_bin())
+            .arg(&config)
+            .args(["--no-live", "--cycles", "20000", "--until-idle", "--record"])
+            .arg(&file)
+            .env("ROS_DOMAIN_ID", unique_domain().to_string())
+            .env("RUST_LOG", "warn,rustdds=error,ros2_client=error")
+            .output()
+            .expect("motion_launch");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(
+            out.status.success(),
+            "{stdout}\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let end: u64 = stdout
+            .split("every command ended and every script step ran after cycle ")
+            .nth(1)
+            .and_then(|r| r.split_whitespace().next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{stdout}"));
+        assert!(
+            stdout.contains(&format!("axis_node: ran {end} cycles")),
+            "{stdout}"
+        );
+        assert!(
+            (1000..3000).contains(&end),
+            "ended after {end} cycles: {stdout}"
+        );
+        let last = read_back_with(&file, PY_DIGEST);
+        if let Some(last) = last {
+            let x: f64 = last
+                .lines()
+                .last()
+                .and_then(|l| l.split_whitespace().nth(2))
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("{last}"));
+            assert!((x - 100.0).abs() < 1e-9, "x at {x}");
+        }
+        ends.push(end);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(ends[0], ends[1], "the same cycle in both runs");
 }

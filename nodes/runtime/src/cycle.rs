@@ -155,6 +155,7 @@ pub struct ControllerHandle<E: Engine> {
     labels: Arc<CommandRegistry>,
     clock: Arc<RosClock>,
     stream: Arc<Mutex<Option<StateStream<E>>>>,
+    busy: Arc<std::sync::atomic::AtomicUsize>,
 }
 
 /// The lossless stream of lockstep snapshots (see [`CycleConfig::stream_every`]).
@@ -174,6 +175,7 @@ impl<E: Engine> Clone for ControllerHandle<E> {
             stats: self.stats.clone(),
             config: self.config.clone(),
             stop: self.stop.clone(),
+            busy: self.busy.clone(),
             labels: self.labels.clone(),
             clock: self.clock.clone(),
             stream: self.stream.clone(),
@@ -269,6 +271,7 @@ impl<E: Engine> Controller<E> {
         let stop = Arc::new(AtomicBool::new(false));
         let wake = Arc::new(Wake::default());
         let labels = Arc::new(CommandRegistry::default());
+        let busy = Arc::new(std::sync::atomic::AtomicUsize::new(0));
         let config = Arc::new(config);
         let failsafe = {
             let wake = wake.clone();
@@ -297,6 +300,8 @@ impl<E: Engine> Controller<E> {
             held: None,
             stream: stream_tx,
             script: VecDeque::new(),
+            open: Default::default(),
+            busy: busy.clone(),
         };
         let thread = std::thread::Builder::new()
             .name(format!("cycle-{}", config.name))
@@ -318,6 +323,7 @@ impl<E: Engine> Controller<E> {
             labels,
             clock,
             stream: Arc::new(Mutex::new(stream_rx)),
+            busy,
         };
         Ok((
             Controller {
@@ -486,6 +492,12 @@ impl<E: Engine> ControllerHandle<E> {
         self.push(Request::Script(steps))
     }
 
+    /// Accepted commands that have not ended, plus the script steps still to run, as of the
+    /// last cycle: 0 = every goal ended (`motion_launch --cycles N --until-idle`).
+    pub fn busy(&self) -> usize {
+        self.busy.load(std::sync::atomic::Ordering::Acquire)
+    }
+
     /// Lockstep: runs `n` cycles and returns the cycle count afterwards.
     /// In real-time mode the request is rejected.
     pub async fn step(&self, n: u64) -> Result<u64, Rejection> {
@@ -600,6 +612,10 @@ struct CycleThread<E: Engine> {
     stream: Option<tmpsc::Sender<Arc<Stamped<E::Snapshot>>>>,
     /// The command script's steps still to run: (cycle, command), in running order.
     script: VecDeque<ScriptedCommand<E::Command>>,
+    /// Accepted commands that have not ended yet.
+    open: std::collections::HashSet<CmdId>,
+    /// `open` plus the script steps left, as of the last cycle (see [`ControllerHandle::busy`]).
+    busy: Arc<std::sync::atomic::AtomicUsize>,
 }
 
 /// Lockstep step requests not yet served: (cycles still to run, reply).
@@ -792,6 +808,9 @@ impl<E: Engine> CycleThread<E> {
         }
         let ros_time_ns = self.clock.at(self.cycle as f64 * self.config.period);
         for ev in self.events.drain(..) {
+            if ev.state.is_final() {
+                self.open.remove(&ev.id);
+            }
             let _ = self.sink.all.send(TimedEvent {
                 event: ev,
                 ros_time_ns,
@@ -803,6 +822,10 @@ impl<E: Engine> CycleThread<E> {
                 }
             }
         }
+        self.busy.store(
+            self.open.len() + self.script.len(),
+            std::sync::atomic::Ordering::Release,
+        );
     }
 
     /// The periodic snapshot (every `snapshot_every` cycles), for cycles that no step request
@@ -843,6 +866,7 @@ impl<E: Engine> CycleThread<E> {
             } => {
                 let result = self.engine.command(cmd);
                 if let Some(id) = result.as_ref().ok().and_then(self.reply_id) {
+                    self.open.insert(id);
                     if let Some(w) = watcher {
                         self.watchers.insert(id, w);
                     }
@@ -871,6 +895,7 @@ impl<E: Engine> CycleThread<E> {
             match self.engine.command(step.command) {
                 Ok(reply) => {
                     if let Some(id) = (self.reply_id)(&reply) {
+                        self.open.insert(id);
                         self.labels.insert(id, step.label);
                     }
                 }

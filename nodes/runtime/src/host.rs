@@ -580,6 +580,9 @@ impl<E: Engine> crate::launch::Running for NodeHost<E> {
             None => Box::pin(async {}),
         }
     }
+    fn busy(&self) -> usize {
+        self.handle().busy()
+    }
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }

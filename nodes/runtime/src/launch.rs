@@ -68,6 +68,10 @@ pub trait Running: Send {
         let _ = cycle;
         Box::pin(async {})
     }
+    /// Commands running and script steps left, as of the last cycle (0: idle).
+    fn busy(&self) -> usize {
+        0
+    }
     /// The concrete node, for tests.
     fn as_any(&self) -> &dyn Any;
 }
@@ -286,6 +290,9 @@ pub struct Args {
     /// `--cycles N`: run N cycles of every (lockstep) node as fast as they go, then stop;
     /// no client needs to step them over DDS.
     pub cycles: Option<u64>,
+    /// `--until-idle` (with `--cycles N`): stop at the first cycle after which no node has a
+    /// command running or a script step left (at most N cycles).
+    pub until_idle: bool,
     /// `--live PORT` (serve the live feed on PORT, the page on the config's page port) or
     /// `--no-live` (Some(None)).
     pub live: Option<Option<u16>>,
@@ -327,6 +334,7 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                     })?));
             }
             "--no-live" => a.live = Some(None),
+            "--until-idle" => a.until_idle = true,
             "--record" => {
                 let v = it
                     .next()
@@ -353,7 +361,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--cycles N] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -375,6 +383,10 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
             "{program}: configuration error: {path}: no node of kind {} in 'nodes'",
             kind_list(kinds)
         );
+        return 2;
+    }
+    if args.until_idle && args.cycles.is_none() {
+        eprintln!("{program}: --until-idle needs --cycles N (the most cycles to run)");
         return 2;
     }
     if let (Some(_), Some(e)) = (args.cycles, entries.iter().find(|e| !e.common.lockstep)) {
@@ -471,7 +483,10 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         let mut code = 0;
         if !shutdown.requested() {
             if let Some(n) = args.cycles {
-                if let Err(e) = run_cycles(program, &running, &entries, n, &shutdown).await {
+                let until_idle = args.until_idle;
+                if let Err(e) =
+                    run_cycles(program, &running, &entries, n, until_idle, &shutdown).await
+                {
                     eprintln!("{program}: {e}");
                     code = 1;
                 }
@@ -512,21 +527,27 @@ async fn run_cycles(
     running: &[RunningNode],
     entries: &[NodeEntry],
     n: u64,
+    until_idle: bool,
     shutdown: &crate::signals::Shutdown,
 ) -> Result<(), String> {
-    const BATCH: u64 = 1000;
+    // Until idle: one cycle at a time, so the run ends at the exact (reproducible) cycle.
+    let batch: u64 = if until_idle { 1 } else { 1000 };
     // No client listens to a run that steps itself: record and feed the live view only.
     crate::record::set_record_only(true);
     let t0 = std::time::Instant::now();
     let mut done = 0;
     let mut cycles = vec![0; running.len()];
     while done < n && !shutdown.requested() {
-        let k = (n - done).min(BATCH);
+        let k = (n - done).min(batch);
         let steps: Vec<_> = running.iter().map(|r| tokio::spawn(r.step(k))).collect();
         for (s, c) in steps.into_iter().zip(&mut cycles) {
             *c = s.await.map_err(|e| format!("stepping: {e}"))??;
         }
         done += k;
+        if until_idle && running.iter().all(|r| r.busy() == 0) {
+            println!("{program}: every command ended and every script step ran after cycle {done}");
+            break;
+        }
     }
     // Every cycle's state is published (and recorded) before the nodes stop.
     for (r, &c) in running.iter().zip(&cycles) {

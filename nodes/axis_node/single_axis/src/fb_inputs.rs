@@ -5,8 +5,10 @@
 use crate::inputs::*;
 use serde::{Deserialize, Serialize};
 
-/// `ST_MoveOptions` (§5.4).
+/// `ST_MoveOptions` (§5.4). Fields left out of a script or config read as the manual's
+/// defaults (FALSE, 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct MoveOptions {
     /// EnableBlendingPosition: transition at `blending_position` instead of the end position.
     pub enable_blending_position: bool,
