@@ -100,6 +100,10 @@ impl MoverDrive for Objects {
         Objects::collision(self, who, info, name)
     }
 
+    fn mover_collision(&mut self, who: &str, j: usize) -> Rejection {
+        Objects::mover_collision(self, who, j)
+    }
+
     fn set_blocking_object(&mut self, info: PlanarObjectInfo) {
         self.last_object_info = info;
     }

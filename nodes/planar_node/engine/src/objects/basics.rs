@@ -360,6 +360,17 @@ impl Objects {
         }
     }
 
+    /// E_COLLISION with mover `j` as the blocking object (`objectInfo`).
+    pub(crate) fn mover_collision(&mut self, who: &str, j: usize) -> Rejection {
+        let m = &self.movers[j];
+        let info = PlanarObjectInfo {
+            object_type: PlanarObjectType::Mover,
+            id: m.oid,
+        };
+        let name = m.name.clone();
+        self.collision(who, info, &name)
+    }
+
     pub(crate) fn collision(&mut self, who: &str, info: PlanarObjectInfo, name: &str) -> Rejection {
         self.last_object_info = info;
         reject(
@@ -389,15 +400,7 @@ impl Objects {
             for k in 0..self.groups[g].movers.len() {
                 let j = self.groups[g].movers[k];
                 if j != i && self.movers[j].cs == cs && swept.intersects(&self.reservation(j)) {
-                    let (oid, name) = (self.movers[j].oid, self.movers[j].name.clone());
-                    return Err(self.collision(
-                        &who,
-                        PlanarObjectInfo {
-                            object_type: PlanarObjectType::Mover,
-                            id: oid,
-                        },
-                        &name,
-                    ));
+                    return Err(self.mover_collision(&who, j));
                 }
             }
             if self.groups[g].environment {
@@ -424,15 +427,7 @@ impl Objects {
                 continue;
             }
             if swept.intersects(&o.footprint()) {
-                let (oid, name) = (o.oid, o.name.clone());
-                return Err(self.collision(
-                    &who,
-                    PlanarObjectInfo {
-                        object_type: PlanarObjectType::Mover,
-                        id: oid,
-                    },
-                    &name,
-                ));
+                return Err(self.mover_collision(&who, j));
             }
         }
         // §5.11: Moving member tracks of the mover's group block their area.

@@ -132,15 +132,7 @@ impl Objects {
             );
             for (k, o) in self.movers.iter().enumerate() {
                 if !riders.contains(&k) && o.cs == cs_new && fp.intersects(&o.envelope) {
-                    let (oid, name) = (o.oid, o.name.clone());
-                    return Err(self.collision(
-                        &who,
-                        PlanarObjectInfo {
-                            object_type: PlanarObjectType::Mover,
-                            id: oid,
-                        },
-                        &name,
-                    ));
+                    return Err(self.mover_collision(&who, k));
                 }
             }
         }

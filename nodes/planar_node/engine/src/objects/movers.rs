@@ -397,15 +397,7 @@ impl Objects {
         let fp = ConvexPolygon::rect(p, m.cfg.width, m.cfg.height, pos.c);
         for j in 0..self.movers.len() {
             if j != i && self.movers[j].cs == cs && fp.intersects(&self.movers[j].envelope) {
-                let (oid, name) = (self.movers[j].oid, self.movers[j].name.clone());
-                return Err(self.collision(
-                    &who,
-                    PlanarObjectInfo {
-                        object_type: PlanarObjectType::Mover,
-                        id: oid,
-                    },
-                    &name,
-                ));
+                return Err(self.mover_collision(&who, j));
             }
         }
         let id = self.new_id();
@@ -608,15 +600,7 @@ impl Objects {
         for k in 0..self.groups[g].movers.len() {
             let j = self.groups[g].movers[k];
             if self.movers[j].cs == cs && fp.intersects(&self.reservation(j)) {
-                let (oid, name) = (self.movers[j].oid, self.movers[j].name.clone());
-                return Err(self.collision(
-                    &who,
-                    PlanarObjectInfo {
-                        object_type: PlanarObjectType::Mover,
-                        id: oid,
-                    },
-                    &name,
-                ));
+                return Err(self.mover_collision(&who, j));
             }
         }
         let id = self.new_id();

@@ -53,6 +53,8 @@ pub(crate) trait MoverDrive {
     // ---------------------------------------------------------------- collisions (§5.11, §6.1)
     /// E_COLLISION with the blocking object, remembered as `objectInfo`.
     fn collision(&mut self, who: &str, info: PlanarObjectInfo, name: &str) -> Rejection;
+    /// E_COLLISION with mover `j` as the blocking object.
+    fn mover_collision(&mut self, who: &str, j: usize) -> Rejection;
     /// Remembers the blocking object of a guard stop (`objectInfo`).
     fn set_blocking_object(&mut self, info: PlanarObjectInfo);
     /// The area mover `j` reserves in its group.

@@ -62,15 +62,7 @@ impl TrackSystem {
             };
             if let Some(other_fp) = there {
                 if fp.intersects(&other_fp) {
-                    let (oid, name) = (o.oid, o.name.clone());
-                    return Err(objects.collision(
-                        &who,
-                        PlanarObjectInfo {
-                            object_type: PlanarObjectType::Mover,
-                            id: oid,
-                        },
-                        &name,
-                    ));
+                    return Err(objects.mover_collision(&who, j));
                 }
             }
         }

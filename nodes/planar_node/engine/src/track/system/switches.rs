@@ -211,16 +211,8 @@ impl TrackSystem {
                 }
                 let area = objects.reservation(j);
                 if self.tracks[k].tube.iter().any(|q| q.intersects(&area)) {
-                    let (oid, name) = (o.oid, o.name.clone());
                     let who = format!("mover '{}'", objects.movers()[i].name);
-                    return Err(objects.collision(
-                        &who,
-                        PlanarObjectInfo {
-                            object_type: PlanarObjectType::Mover,
-                            id: oid,
-                        },
-                        &name,
-                    ));
+                    return Err(objects.mover_collision(&who, j));
                 }
             }
         }
