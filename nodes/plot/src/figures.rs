@@ -151,20 +151,15 @@ fn axes<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
         for (j, (label, unit, get)) in signals.iter().enumerate() {
             let area = &rows[3 * i + j];
             let (lo, hi) = range(samples.iter().map(get));
-            let mut chart = ChartBuilder::on(area)
-                .caption(format!("{name}: {label}"), ("sans-serif", 16))
-                .margin(8)
-                .x_label_area_size(36)
-                .y_label_area_size(70)
-                .build_cartesian_2d(0.0..t_end, lo..hi)
-                .map_err(e)?;
-            chart
-                .configure_mesh()
-                .x_desc("time [s]")
-                .y_desc(format!("{label} [{unit}]"))
-                .label_style(("sans-serif", 12))
-                .draw()
-                .map_err(e)?;
+            let mut chart = plane_chart(
+                area,
+                &format!("{name}: {label}"),
+                16,
+                0.0..t_end,
+                lo..hi,
+                "time [s]",
+                &format!("{label} [{unit}]"),
+            )?;
             for c in run.commands.iter().filter(|c| &c.object == name) {
                 chart
                     .draw_series(LineSeries::new(
@@ -202,19 +197,15 @@ fn ca_gaps<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
         let all = axes.values().flatten();
         let t_end = all.clone().map(|g| g.t).fold(1e-3, f64::max);
         let (lo, hi) = range(all.flat_map(|g| [g.actual, g.target]));
-        let mut chart = ChartBuilder::on(area)
-            .caption(format!("group {group}"), ("sans-serif", 16))
-            .margin(8)
-            .x_label_area_size(36)
-            .y_label_area_size(70)
-            .build_cartesian_2d(0.0..t_end, lo..hi)
-            .map_err(e)?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc("gap [mm]")
-            .draw()
-            .map_err(e)?;
+        let mut chart = plane_chart(
+            area,
+            &format!("group {group}"),
+            16,
+            0.0..t_end,
+            lo..hi,
+            "time [s]",
+            "gap [mm]",
+        )?;
         for (i, (axis, s)) in axes.iter().enumerate() {
             let c = colour(i);
             chart
@@ -268,6 +259,41 @@ fn square_bounds(
     ((x0 - pad, x1 + pad), (y0 - pad, y1 + pad))
 }
 
+/// A chart of two real axes on `area`: caption, margins and a mesh labelled with the axes'
+/// names and units, so every panel of every figure looks alike.
+fn plane_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    caption_size: u32,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+    x_desc: &str,
+    y_desc: &str,
+) -> Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    String,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", caption_size))
+        .margin(8)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x, y)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style(("sans-serif", 12))
+        .draw()
+        .map_err(e)?;
+    Ok(chart)
+}
+
 /// The legend box of a chart: white, framed, in the upper right.
 fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
@@ -318,22 +344,15 @@ fn planar_trails<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
     } else {
         sy = sx / aspect;
     }
-    let mut chart = ChartBuilder::on(root)
-        .caption(
-            "XPlanar mover trails on the stator grid (circle: start, square: end)",
-            ("sans-serif", 20),
-        )
-        .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(cx - sx / 2.0..cx + sx / 2.0, cy - sy / 2.0..cy + sy / 2.0)
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc("x [mm]")
-        .y_desc("y [mm]")
-        .draw()
-        .map_err(e)?;
+    let mut chart = plane_chart(
+        root,
+        "XPlanar mover trails on the stator grid (circle: start, square: end)",
+        20,
+        cx - sx / 2.0..cx + sx / 2.0,
+        cy - sy / 2.0..cy + sy / 2.0,
+        "x [mm]",
+        "y [mm]",
+    )?;
     draw_rects(&mut chart, &run.stators, RGBColor(70, 75, 85).mix(0.85))?;
     for (k, track) in run.tracks.iter().enumerate() {
         let s = chart
@@ -407,19 +426,15 @@ fn pickplace_tcp<DB: DrawingBackend>(run: &Run, root: &Area<'_, DB>) -> Res {
                 .chain(run.workpieces.iter().map(|w| (wp(w, a), wp(w, b)))),
         );
         let axis_name = |k: usize| ["t", "x", "y", "z"][k];
-        let mut chart = ChartBuilder::on(area)
-            .caption(format!("{name} projection"), ("sans-serif", 16))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(e)?;
-        chart
-            .configure_mesh()
-            .x_desc(format!("{} [mm]", axis_name(a)))
-            .y_desc(format!("{} [mm]", axis_name(b)))
-            .draw()
-            .map_err(e)?;
+        let mut chart = plane_chart(
+            area,
+            &format!("{name} projection"),
+            16,
+            x0..x1,
+            y0..y1,
+            &format!("{} [mm]", axis_name(a)),
+            &format!("{} [mm]", axis_name(b)),
+        )?;
         draw_rects(&mut chart, &belts, RGBColor(51, 89, 153).mix(0.5))?;
         chart
             .draw_series(
