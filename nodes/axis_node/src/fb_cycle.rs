@@ -39,13 +39,7 @@ fn fb_from_json(text: &str, what: &str) -> Result<(AxisCommand, String), Rejecti
 /// `~/command_status` label of a batch order: its axis or group and the FB (`name`, as in
 /// the JSON) in snake_case.
 fn batch_label(name: &str, cmd: &AxisCommand) -> CommandLabel {
-    let mut command = String::new();
-    for (k, ch) in name.chars().enumerate() {
-        if ch.is_uppercase() && k > 0 {
-            command.push('_');
-        }
-        command.extend(ch.to_lowercase());
-    }
+    let command = motion_runtime::shell::snake_case(name);
     let object = match cmd {
         AxisCommand::Group(g) => g.group().to_string(),
         c => c.axis().unwrap_or_default().to_string(),

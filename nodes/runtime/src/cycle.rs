@@ -806,7 +806,13 @@ impl<E: Engine> CycleThread<E> {
         if self.events.iter().any(|e| e.state.is_final()) {
             self.take_snapshot();
         }
-        let ros_time_ns = self.clock.at(self.cycle as f64 * self.config.period);
+        // The clock is read only in cycles that report something (in real time it is a
+        // system call).
+        let ros_time_ns = if self.events.is_empty() {
+            0
+        } else {
+            self.clock.at(self.cycle as f64 * self.config.period)
+        };
         for ev in self.events.drain(..) {
             if ev.state.is_final() {
                 self.open.remove(&ev.id);

@@ -75,7 +75,7 @@ fn script_label(command: &serde_yaml::Value) -> crate::shell::CommandLabel {
             Value::String(k) if k.starts_with(char::is_uppercase) => (k.clone(), &Value::Null),
             _ => break,
         };
-        label.command = snake_case(&name);
+        label.command = crate::shell::snake_case(&name);
         v = inner;
     }
     if let Value::Mapping(m) = v {
@@ -89,17 +89,6 @@ fn script_label(command: &serde_yaml::Value) -> crate::shell::CommandLabel {
         }
     }
     label
-}
-
-fn snake_case(name: &str) -> String {
-    let mut out = String::with_capacity(name.len() + 4);
-    for (i, c) in name.chars().enumerate() {
-        if c.is_uppercase() && i > 0 {
-            out.push('_');
-        }
-        out.extend(c.to_lowercase());
-    }
-    out
 }
 
 /// One step of a node's command script: at simulated time `at` [s] (the cycle

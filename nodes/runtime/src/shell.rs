@@ -146,6 +146,18 @@ pub struct CommandLabel {
     pub command: String,
 }
 
+/// A command name as `~/command_status` labels carry it: `MoveAbsolute` -> `move_absolute`.
+pub fn snake_case(name: &str) -> String {
+    let mut out = String::with_capacity(name.len() + 4);
+    for (i, c) in name.chars().enumerate() {
+        if c.is_uppercase() && i > 0 {
+            out.push('_');
+        }
+        out.extend(c.to_lowercase());
+    }
+    out
+}
+
 /// Maps command ids to their labels until the command ends.
 #[derive(Default)]
 pub struct CommandRegistry {
