@@ -142,7 +142,7 @@ impl Recording {
 }
 
 /// The process's recording (`motion_launch --record FILE`): a writer thread that owns the
-/// [`Recording`], fed by every publisher of every node of the process through [`record`].
+/// [`Recording`], fed by every publisher of every node of the process through [`RecordedPublisher`].
 /// Publishers never wait for it: a message that finds the queue full is dropped and counted.
 struct Recorder {
     tx: std::sync::mpsc::SyncSender<Entry>,
@@ -261,17 +261,6 @@ fn record_serialized(topic: &str, ros_type: &'static str, stamp_ns: u64, data: V
     };
     if r.tx.try_send(entry).is_err() {
         r.dropped.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    }
-}
-
-/// Records `msg` (ROS type `ros_type`) on `topic` at ROS time `stamp_ns`, if this process
-/// records; otherwise does nothing. Never blocks.
-pub fn record<M: serde::Serialize>(topic: &str, ros_type: &'static str, stamp_ns: i64, msg: &M) {
-    if !recording() {
-        return;
-    }
-    if let Ok(data) = serialized(msg) {
-        record_serialized(topic, ros_type, stamp_ns.max(0) as u64, data);
     }
 }
 
