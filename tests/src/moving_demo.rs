@@ -7,6 +7,19 @@ use axis_engine::{AxisCommand, BufferMode, Direction, MoveAbsolute, MoveOptions,
 use planar_engine::{DynamicConstraint, MoveToPositionOptions, PlanarCommand, PositionXYC};
 use serde_yaml::{Mapping, Value};
 
+/// MC_Power of `axis` with Enable, both directions and 100 % override (the suite's benches and
+/// scripts switch axes on this way).
+pub fn power(axis: &str) -> AxisCommand {
+    AxisCommand::Power(Power {
+        axis: axis.to_string(),
+        enable: true,
+        enable_positive: true,
+        enable_negative: true,
+        override_percent: 100.0,
+        buffer_mode: BufferMode::Aborting,
+    })
+}
+
 /// One script step of an engine command at `at` seconds.
 fn step<C: serde::Serialize>(at: f64, command: C) -> Value {
     let mut m = Mapping::new();
@@ -26,19 +39,7 @@ fn step<C: serde::Serialize>(at: f64, command: C) -> Value {
 fn axis_script(seconds: f64) -> Vec<Value> {
     let mut s: Vec<Value> = ["x", "y", "table"]
         .iter()
-        .map(|a| {
-            step(
-                0.0,
-                AxisCommand::Power(Power {
-                    axis: a.to_string(),
-                    enable: true,
-                    enable_positive: true,
-                    enable_negative: true,
-                    override_percent: 100.0,
-                    buffer_mode: BufferMode::Aborting,
-                }),
-            )
-        })
+        .map(|a| step(0.0, power(a)))
         .collect();
     s.push(step(
         0.01,
@@ -182,17 +183,7 @@ pub fn ca_ring_config() -> String {
     let mut root: Value = serde_yaml::from_str(&text).expect("ca_ring.yaml parses");
     let mut script = Vec::new();
     for (i, m) in ["m1", "m2", "m3"].iter().enumerate() {
-        script.push(step(
-            0.0,
-            AxisCommand::Power(Power {
-                axis: m.to_string(),
-                enable: true,
-                enable_positive: true,
-                enable_negative: true,
-                override_percent: 100.0,
-                buffer_mode: BufferMode::Aborting,
-            }),
-        ));
+        script.push(step(0.0, power(m)));
         script.push(step(
             0.005,
             AxisCommand::Ca(CaCommand::AddAxisToGroup {

@@ -3,8 +3,8 @@
 //! does), as a ratio of simulated to wall time; the reference is the bare engine stepping the
 //! same motion in the same run. Must run inside scripts/netns-run (the node opens DDS sockets).
 
+use axis_engine::MoveVelocity;
 use axis_engine::{AxisCommand, AxisConfig, AxisEngine, BufferMode, Direction, MoveOptions};
-use axis_engine::{MoveVelocity, Power};
 use motion_core::{Engine, Tick};
 use motion_runtime::host::CommonConfig;
 use motion_runtime::launch::Running;
@@ -17,14 +17,7 @@ const TARGET: f64 = 1000.0;
 pub(crate) fn orders(i: usize) -> [AxisCommand; 2] {
     let axis = format!("a{i}");
     [
-        AxisCommand::Power(Power {
-            axis: axis.clone(),
-            enable: true,
-            enable_positive: true,
-            enable_negative: true,
-            override_percent: 100.0,
-            buffer_mode: BufferMode::Aborting,
-        }),
+        system_tests::moving_demo::power(&axis),
         AxisCommand::MoveVelocity(MoveVelocity {
             axis,
             velocity: 100.0 + 10.0 * i as f64,
