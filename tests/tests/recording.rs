@@ -392,12 +392,12 @@ fn a_scripted_lockstep_run_replays_bit_identically() {
     assert!(a.len() > 10, "channels recorded: {a:?}");
     assert_eq!(a, b, "the two runs differ");
     // The script moved the machine: x went to 200 (and back; a leg every 2 s at 150 mm/s),
-    // m2 left x = 240 mm for 480 mm at 40 mm/s (3 s after its start at 1 s: about 360 mm).
+    // m2 left x = 240 mm for 480 mm at 12 mm/s (3 s after its start at 1 s: about 276 mm).
     let last = a.last().unwrap();
     let v: Vec<&str> = last.split_whitespace().collect();
     let (x, m2): (f64, f64) = (v[2].parse().unwrap(), v[5].parse().unwrap());
     assert!((x - 200.0).abs() < 1e-9, "x reached 200: {last}");
-    assert!(m2 > 300.0 && m2 < 480.0, "m2 moves: {last}");
+    assert!(m2 > 255.0 && m2 < 300.0, "m2 moves: {last}");
 }
 
 /// `--cycles N --until-idle`: the run stops after the first cycle in which every command has
