@@ -162,7 +162,7 @@ pub struct ControllerHandle<E: Engine> {
 pub type StateStream<E> = tmpsc::Receiver<Arc<Stamped<<E as Engine>::Snapshot>>>;
 
 /// Snapshots in flight on the state stream before the cycle waits.
-const STREAM_CAPACITY: usize = 16;
+const STREAM_CAPACITY: usize = 64;
 
 impl<E: Engine> Clone for ControllerHandle<E> {
     fn clone(&self) -> Self {
@@ -854,8 +854,28 @@ impl<E: Engine> CycleThread<E> {
         }
         self.snapshot_current();
         let snap = self.snap_tx.borrow().clone();
-        let sent = self.stream.as_ref().map(|tx| tx.blocking_send(snap));
-        if let Some(Err(_)) = sent {
+        let Some(tx) = self.stream.as_ref() else {
+            return;
+        };
+        let sent = match tx.try_send(snap) {
+            Ok(()) => Ok(()),
+            Err(tmpsc::error::TrySendError::Full(snap)) => {
+                // Full: wait until half of it is free, not just one place, so that the cycle
+                // and the reader take turns once per half stream, not once per snapshot.
+                match futures::executor::block_on(tx.reserve_many(STREAM_CAPACITY / 2)) {
+                    Ok(mut room) => match room.next() {
+                        Some(permit) => {
+                            permit.send(snap);
+                            Ok(())
+                        }
+                        None => Err(()),
+                    },
+                    Err(_) => Err(()),
+                }
+            }
+            Err(tmpsc::error::TrySendError::Closed(_)) => Err(()),
+        };
+        if sent.is_err() {
             // Nobody reads the stream any more (the node is stopping).
             self.stream = None;
         }

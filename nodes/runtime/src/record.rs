@@ -17,9 +17,10 @@ use std::io::BufWriter;
 use std::path::Path;
 
 /// A message as it travels over DDS and is recorded: the 4-byte encapsulation header (CDR_LE,
-/// no options), then the CDR body.
-fn serialized<M: serde::Serialize>(msg: &M) -> Result<Vec<u8>, String> {
-    let mut data = vec![0x00, 0x01, 0x00, 0x00];
+/// no options), then the CDR body. `size`: the expected length (the buffer is allocated once).
+fn serialized<M: serde::Serialize>(msg: &M, size: usize) -> Result<Vec<u8>, String> {
+    let mut data = Vec::with_capacity(size.max(64));
+    data.extend_from_slice(&[0x00, 0x01, 0x00, 0x00]);
     to_writer_with_rep_id(&mut data, msg, RepresentationIdentifier::CDR_LE)
         .map_err(|e| e.to_string())?;
     Ok(data)
@@ -83,7 +84,8 @@ impl Recording {
         stamp_ns: u64,
         msg: &M,
     ) -> Result<(), RecordError> {
-        let data = serialized(msg).map_err(|e| RecordError::Serialize(format!("{topic}: {e}")))?;
+        let data =
+            serialized(msg, 0).map_err(|e| RecordError::Serialize(format!("{topic}: {e}")))?;
         self.write_cdr(topic, ros_type, stamp_ns, &data)
     }
 
@@ -151,7 +153,7 @@ struct Recorder {
 
 enum Entry {
     Message {
-        topic: String,
+        topic: std::sync::Arc<str>,
         ros_type: &'static str,
         stamp_ns: u64,
         data: Vec<u8>,
@@ -249,12 +251,17 @@ fn recording() -> bool {
 }
 
 /// Hands an already serialized message to the recording. Never blocks.
-fn record_serialized(topic: &str, ros_type: &'static str, stamp_ns: u64, data: Vec<u8>) {
+fn record_serialized(
+    topic: &std::sync::Arc<str>,
+    ros_type: &'static str,
+    stamp_ns: u64,
+    data: Vec<u8>,
+) {
     let Some(r) = RECORDER.get() else {
         return;
     };
     let entry = Entry::Message {
-        topic: topic.to_string(),
+        topic: topic.clone(),
         ros_type,
         stamp_ns,
         data,
@@ -296,7 +303,9 @@ pub fn time_ns(t: &motion_msgs::deps::builtin_interfaces::msg::Time) -> i64 {
 /// only when someone takes it.
 pub struct RecordedPublisher<M: serde::Serialize> {
     publisher: ros2_client::Publisher<M>,
-    topic: String,
+    topic: std::sync::Arc<str>,
+    /// Length of the last serialized message (the next one is likely as long).
+    size: std::sync::atomic::AtomicUsize,
     /// The live feed's channel of this topic, looked up at the first message.
     live: std::sync::OnceLock<Option<std::sync::Arc<foxglove::RawChannel>>>,
 }
@@ -306,7 +315,8 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
     pub fn new(publisher: ros2_client::Publisher<M>, topic: impl std::fmt::Display) -> Self {
         RecordedPublisher {
             publisher,
-            topic: topic.to_string(),
+            topic: topic.to_string().into(),
+            size: std::sync::atomic::AtomicUsize::new(0),
             live: std::sync::OnceLock::new(),
         }
     }
@@ -314,13 +324,25 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
     /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
     /// feed (if a client subscribed to the topic), then publishes it.
     pub async fn publish(&self, msg: M, stamp_ns: i64) -> ros2_client::error::WriteResult<(), M> {
+        match self.record(msg, stamp_ns) {
+            Some(msg) => self.publish_dds(msg).await,
+            None => Ok(()),
+        }
+    }
+
+    /// The first half of [`RecordedPublisher::publish`], which never waits: records `msg` and
+    /// logs it to the live feed; returns it when it is to be written to DDS too.
+    pub fn record(&self, msg: M, stamp_ns: i64) -> Option<M> {
         let live = self
             .live
             .get_or_init(|| crate::live::channel(&self.topic, M::ROS_TYPE_NAME))
             .as_ref()
             .filter(|c| c.has_sinks());
         if recording() || live.is_some() {
-            if let Ok(data) = serialized(&msg) {
+            let size = self.size.load(std::sync::atomic::Ordering::Relaxed);
+            if let Ok(data) = serialized(&msg, size) {
+                self.size
+                    .store(data.len(), std::sync::atomic::Ordering::Relaxed);
                 let stamp = stamp_ns.max(0) as u64;
                 if let Some(c) = live {
                     c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
@@ -329,8 +351,13 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
             }
         }
         if RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
-            return Ok(());
+            return None;
         }
+        Some(msg)
+    }
+
+    /// The second half of [`RecordedPublisher::publish`]: writes `msg` to DDS.
+    pub async fn publish_dds(&self, msg: M) -> ros2_client::error::WriteResult<(), M> {
         self.publisher.async_publish(msg).await
     }
 }

@@ -199,17 +199,26 @@ pub struct NodeShell<E: Engine> {
     spinner: Option<JoinHandle<()>>,
     /// Copies of the command events with their labels (see [`NodeShell::command_event_tap`]).
     taps: Vec<tokio::sync::mpsc::UnboundedSender<(CommandEvent, CommandLabel, i64)>>,
-    /// The state publishers' inputs in stream mode (fed by [`NodeShell::start_common`]).
-    streams: Vec<StreamSender<E>>,
-    /// Per stream publisher: the cycle of the last snapshot it published + 1 (0: none yet).
-    stream_published: Vec<tokio::sync::watch::Receiver<u64>>,
+    /// The state topics in stream mode, published in turn by one task (see
+    /// [`NodeShell::start_common`]).
+    streams: Vec<StreamTopic<E>>,
+    /// Stream mode: the cycle of the last snapshot all state topics published + 1 (0: none
+    /// yet).
+    stream_published: tokio::sync::watch::Receiver<u64>,
+    /// The stream task's side of `stream_published`.
+    stream_done: Option<tokio::sync::watch::Sender<u64>>,
     /// Asks the statistics task to publish `/diagnostics` and `~/cycle_stats` now; it answers
     /// when they are out.
     stats_now: Option<tokio::sync::mpsc::UnboundedSender<tokio::sync::oneshot::Sender<()>>>,
 }
 
-/// One state publisher's input of stream snapshots.
-type StreamSender<E> = tokio::sync::mpsc::Sender<Arc<Stamped<<E as Engine>::Snapshot>>>;
+/// One state topic in stream mode: builds its message from a snapshot and returns the
+/// publishing (recording it happens at once, before the future is polled only for DDS).
+type StreamTopic<E> = Box<
+    dyn Fn(&Stamped<<E as Engine>::Snapshot>) -> std::pin::Pin<Box<dyn Future<Output = ()> + Send>>
+        + Send
+        + Sync,
+>;
 
 /// The answer of a command service (README "ROS API rules"): accepted with the command id, or
 /// rejected with the error id and message; `id` reads the command id from the engine's reply.
@@ -372,6 +381,7 @@ where
             .map_err(err("creating the node"))?;
         running.store(true, std::sync::atomic::Ordering::SeqCst);
         let tasks = TaskSet::new(crate::logging::node_span(&settings.node_name));
+        let (stream_done, stream_published) = tokio::sync::watch::channel(0);
         Ok(NodeShell {
             node,
             registry: handle.labels(),
@@ -381,7 +391,8 @@ where
             spinner: None,
             taps: Vec::new(),
             streams: Vec::new(),
-            stream_published: Vec::new(),
+            stream_published,
+            stream_done: Some(stream_done),
             stats_now: None,
         })
     }
@@ -413,21 +424,28 @@ where
         Ok(())
     }
 
-    /// Stream mode: hands every snapshot of the cycle's state stream to each state publisher,
-    /// in order (a slow publisher holds the stream, and so the lockstep cycle, back).
+    /// Stream mode: publishes every snapshot of the cycle's state stream on each state topic,
+    /// in order, from one task (a slow publisher holds the stream, and so the lockstep cycle,
+    /// back). One task for all topics: handing each snapshot to a task per topic cost more
+    /// than building and recording the messages.
     fn spawn_state_stream(&mut self) {
+        // Without a stream task the sender goes, so `states_flushed` does not wait for it.
+        let Some(done) = self.stream_done.take() else {
+            return;
+        };
         if !self.settings.state_stream {
             return;
         }
         let Some(mut rx) = self.handle.take_state_stream() else {
             return;
         };
-        let outs = std::mem::take(&mut self.streams);
+        let topics = std::mem::take(&mut self.streams);
         self.tasks.spawn(async move {
             while let Some(snap) = rx.recv().await {
-                for o in &outs {
-                    let _ = o.send(snap.clone()).await;
+                for publish in &topics {
+                    publish(&snap).await;
                 }
+                done.send_replace(snap.cycle + 1);
             }
         });
     }
@@ -985,18 +1003,18 @@ where
         let publisher = RecordedPublisher::new(publisher, name);
         if self.settings.state_stream {
             // Every streamed cycle, in order (see `spawn_state_stream`).
-            let (tx, mut rx) = tokio::sync::mpsc::channel::<Arc<Stamped<E::Snapshot>>>(4);
-            self.streams.push(tx);
-            let (published, watch) = tokio::sync::watch::channel(0);
-            self.stream_published.push(watch);
-            self.tasks.spawn(async move {
-                while let Some(snap) = rx.recv().await {
-                    if let Err(e) = publisher.publish(build(&snap), snap.ros_time_ns).await {
-                        tracing::warn!("state publish failed: {e:?}");
+            let publisher = Arc::new(publisher);
+            self.streams.push(Box::new(move |snap| {
+                let publisher = publisher.clone();
+                let publish = publisher.record(build(snap), snap.ros_time_ns);
+                Box::pin(async move {
+                    if let Some(msg) = publish {
+                        if let Err(e) = publisher.publish_dds(msg).await {
+                            tracing::warn!("state publish failed: {e:?}");
+                        }
                     }
-                    published.send_replace(snap.cycle + 1);
-                }
-            });
+                })
+            }));
             return Ok(());
         }
         let handle = self.handle.clone();
@@ -1033,10 +1051,8 @@ where
         let stats_now = self.stats_now.clone();
         async move {
             let all = async {
-                for p in &mut published {
-                    // An ended publisher (node stopping) has nothing more to publish.
-                    let _ = p.wait_for(|&c| c > cycle).await;
-                }
+                // An ended or absent stream task has nothing more to publish.
+                let _ = published.wait_for(|&c| c > cycle).await;
                 // The statistics as they stand after the last cycle.
                 if let Some(now) = stats_now {
                     let (tx, rx) = tokio::sync::oneshot::channel();

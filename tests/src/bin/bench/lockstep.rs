@@ -1,7 +1,8 @@
 //! `lockstep` (issue 14 item 4): the axis node with 10 moving axes in lockstep, every cycle's
 //! state published and recorded to MCAP, stepped in-process (as `motion_launch --cycles`
-//! does), as a ratio of simulated to wall time; the reference is the bare engine stepping the
-//! same motion in the same run. Must run inside scripts/netns-run (the node opens DDS sockets).
+//! does), as a ratio of simulated to wall time; the references are the bare engine stepping the
+//! same motion, and the recording's floor (its bytes written again with nothing else to do),
+//! both in the same run. Must run inside scripts/netns-run (the node opens DDS sockets).
 
 use axis_engine::MoveVelocity;
 use axis_engine::{AxisCommand, AxisConfig, AxisEngine, BufferMode, Direction, MoveOptions};
@@ -103,6 +104,55 @@ fn node_speed(rt: &tokio::runtime::Runtime, cycles: u64, record_only: bool) -> (
     })
 }
 
+/// The floor a recording sets (the reference for the 1 000x goal): the first `cycles` cycles
+/// of the recording in `file`, written again, message by message, by the same MCAP writer
+/// (no engine, no message building, no serializing), and their bytes written to a plain file.
+/// Returns (bytes per cycle, x real time of the writer, x real time of the plain file).
+fn floor(file: &std::path::Path, cycles: u64) -> (f64, f64, f64) {
+    use std::io::{Read, Write};
+    // Enough of the file for `cycles` cycles (the recording is longer; its end is not read).
+    let mut bytes = Vec::new();
+    std::fs::File::open(file)
+        .and_then(|f| f.take(400 << 20).read_to_end(&mut bytes))
+        .expect("recording readable");
+    let opts = mcap::read::Options::IgnoreEndMagic.into();
+    let mut messages = Vec::new();
+    let mut first = None;
+    for m in mcap::MessageStream::new_with_options(&bytes, opts).expect("mcap") {
+        let Ok(m) = m else { break };
+        let t0 = *first.get_or_insert(m.log_time);
+        if m.log_time >= t0 + cycles * 1_000_000 {
+            break;
+        }
+        let ty = m
+            .channel
+            .schema
+            .as_ref()
+            .map_or(String::new(), |s| s.name.clone());
+        messages.push((m.channel.topic.clone(), ty, m.log_time, m.data.into_owned()));
+    }
+    let total: usize = messages.iter().map(|m| m.3.len()).sum();
+    let out = std::env::temp_dir().join(format!("bench_floor_{}.mcap", std::process::id()));
+    let t0 = Instant::now();
+    let mut rec = motion_runtime::record::Recording::create(&out).expect("floor file");
+    for (topic, ty, t, data) in &messages {
+        rec.write_cdr(topic, ty, *t, data).expect("written");
+    }
+    rec.finish().expect("closed");
+    let writer = t0.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&out).expect("floor file"));
+    for (_, _, _, data) in &messages {
+        f.write_all(data).expect("written");
+    }
+    f.flush().expect("written");
+    drop(f);
+    let plain = t0.elapsed().as_secs_f64();
+    let _ = std::fs::remove_file(&out);
+    let sim = cycles as f64 * 0.001;
+    (total as f64 / cycles as f64, sim / writer, sim / plain)
+}
+
 pub fn speed(cycles: u64) {
     let file = std::env::temp_dir().join(format!("bench_lockstep_{}.mcap", std::process::id()));
     motion_runtime::record::start(&file).expect("recording");
@@ -117,11 +167,19 @@ pub fn speed(cycles: u64) {
     let (written, dropped) = motion_runtime::record::finish()
         .expect("recording on")
         .expect("recording closed");
+    let (per_cycle, writer, plain) = floor(&file, cycles.min(20_000));
     let _ = std::fs::remove_file(&file);
     let bare = bare(cycles);
     println!(
         "lockstep @1 ms, axis node, {moving} of {AXES} axes moving, every cycle recorded: {ratio:.1}x real time recorded only (as --cycles runs) | {published:.1}x also published over DDS ({written} messages, {dropped} dropped) | bare engine {bare:.0}x (ratio {:.4}) | target >= {TARGET:.0}x: {}",
         ratio / bare,
         if ratio >= TARGET { "met" } else { "NOT met" }
+    );
+    println!(
+        "lockstep recording floor: {:.1} KB per cycle; writing them again, nothing else: MCAP writer {writer:.0}x real time (node/writer {:.2}), plain file {plain:.0}x (node/file {:.2}); {TARGET:.0}x needs {:.1} GB/s",
+        per_cycle / 1e3,
+        ratio / writer,
+        ratio / plain,
+        per_cycle * TARGET * 1e3 / 1e9,
     );
 }

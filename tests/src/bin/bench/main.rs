@@ -19,7 +19,9 @@
 //! - pickplace: cell step mean and p99.9 (2 belts × 30 workpieces, blended ellipse) against the
 //!   manual's module; cycles from an execute edge to the first moving set point.
 //! - lockstep: the axis node with 10 moving axes in lockstep, every cycle published and
-//!   recorded, as a ratio of simulated to wall time, against the bare engine (netns-run).
+//!   recorded, as a ratio of simulated to wall time, against the bare engine and against the
+//!   recording's floor (the same bytes written again by the MCAP writer alone, and to a plain
+//!   file) (netns-run).
 //! - live: cycle execution p99 of the axis node (10 moving axes, real time) serving the live
 //!   feed, without a client and with a client reading every channel (netns-run).
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
@@ -136,7 +138,7 @@ fn main() {
             eprintln!("lockstep: run inside scripts/netns-run (it opens DDS sockets)");
             std::process::exit(2);
         }
-        lockstep::speed(if smoke { 2_000 } else { 20_000 });
+        lockstep::speed(if smoke { 2_000 } else { 100_000 });
     }
     if all || args.iter().any(|a| a == "live") {
         if std::env::var("MOTION_IN_NETNS").as_deref() != Ok("1") {
