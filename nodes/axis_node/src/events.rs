@@ -12,10 +12,14 @@
 //! The MC messages, clog warnings and safety states are compared between consecutive
 //! snapshots at the state rate, so the cycle is never blocked; the snapshot keeps 6 messages
 //! per axis and the last 8 clog warnings, more than arrive between two samples in practice.
+//! In lockstep with a state stream (recording, `--cycles`) every streamed cycle is compared
+//! with the one before, and each cycle's acknowledgements come before its state changes:
+//! the same events, stamps and numbers on every run.
 
 use axis_engine::platform::{AxisSafetyStatus, McMessage, PlatformStatus};
 use axis_engine::{AxisEngine, AxisSnapshot};
 use motion_core::{CommandEvent, CommandState, Engine};
+use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::msg::AxisEvent;
 use motion_runtime::cycle::Stamped;
 use motion_runtime::shell::{private_name, stamp, stamp_ns};
@@ -252,7 +256,33 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
         .node
         .create_publisher::<AxisEvent>(&topic, Some(events_qos()))
         .map_err(err("publisher"))?;
-    let publisher = motion_runtime::record::RecordedPublisher::new(publisher, name);
+    let publisher = std::sync::Arc::new(motion_runtime::record::RecordedPublisher::new(
+        publisher, name,
+    ));
+    let mut events = Numbered {
+        publisher,
+        seq: 0,
+        orders: Acknowledgements::default(),
+    };
+    // Lockstep with a state stream: every streamed cycle in order, its orders' acknowledgements
+    // before the changes of its state, so a recorded run has the same events every time.
+    if shell.settings.state_stream {
+        let mut prev: Option<std::sync::Arc<Stamped<AxisSnapshot>>> = None;
+        shell.stream_reader(move |item| {
+            let mut batch = Vec::new();
+            for (timed, label) in &item.events {
+                events.acknowledge(&timed.event, label, timed.ros_time_ns, &mut batch);
+            }
+            if let Some(p) = &prev {
+                let changes = diff(&p.state, &item.state.state);
+                events.number(changes, stamp(&item.state), &mut batch);
+            }
+            prev = Some(item.state.clone());
+            events.publish(batch)
+        });
+        return Ok(());
+    }
+    // Real time: acknowledgements as they come, state changes between samples at the state rate.
     let mut acks = shell.command_event_tap();
     let handle = shell.handle.clone();
     let period = Duration::from_secs_f64(1.0 / shell.settings.state_rate.max(0.1));
@@ -260,12 +290,11 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
         let mut tick = tokio::time::interval(period);
         tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
         let mut prev: std::sync::Arc<Stamped<AxisSnapshot>> = handle.snapshot();
-        let mut seq = 0u64;
-        let mut orders = Acknowledgements::default();
         loop {
-            let (batch, t) = tokio::select! {
+            let mut batch = Vec::new();
+            tokio::select! {
                 a = acks.recv() => match a {
-                    Some((ev, label, at)) => (orders.of(&ev, &label), stamp_ns(at)),
+                    Some((ev, label, at)) => events.acknowledge(&ev, &label, at, &mut batch),
                     None => break,
                 },
                 _ = tick.tick() => {
@@ -273,24 +302,65 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
                     if next.cycle == prev.cycle {
                         continue;
                     }
-                    let batch = diff(&prev.state, &next.state);
-                    let t = stamp(&next);
+                    events.number(diff(&prev.state, &next.state), stamp(&next), &mut batch);
                     prev = next;
-                    (batch, t)
                 }
             };
-            for mut e in batch {
-                e.stamp = t.clone();
-                e.seq = seq;
-                seq += 1;
-                let at = motion_runtime::record::time_ns(&e.stamp);
-                if let Err(e) = publisher.publish(e, at).await {
-                    tracing::warn!("~/events publish failed: {e:?}");
-                }
-            }
+            events.publish(batch).await;
         }
     });
     Ok(())
+}
+
+/// The numbering and publishing side of `~/events`: sequence numbers and the orders' state.
+struct Numbered {
+    publisher: std::sync::Arc<motion_runtime::record::RecordedPublisher<AxisEvent>>,
+    seq: u64,
+    orders: Acknowledgements,
+}
+
+impl Numbered {
+    /// The acknowledgements of a command event of the cycle at ROS time `at` [ns], into
+    /// `batch`.
+    fn acknowledge(
+        &mut self,
+        ev: &CommandEvent,
+        label: &CommandLabel,
+        at: i64,
+        batch: &mut Vec<AxisEvent>,
+    ) {
+        let acks = self.orders.of(ev, label);
+        self.number(acks, stamp_ns(at), batch);
+    }
+
+    /// Stamps `events` with `t` and numbers them into `batch`.
+    fn number(&mut self, events: Vec<AxisEvent>, t: Time, batch: &mut Vec<AxisEvent>) {
+        for mut e in events {
+            e.stamp = t.clone();
+            e.seq = self.seq;
+            self.seq += 1;
+            batch.push(e);
+        }
+    }
+
+    /// Records `batch` at once and returns its writing to DDS.
+    fn publish(&self, batch: Vec<AxisEvent>) -> motion_runtime::shell::StreamWork {
+        let publisher = self.publisher.clone();
+        let dds: Vec<AxisEvent> = batch
+            .into_iter()
+            .filter_map(|e| {
+                let at = motion_runtime::record::time_ns(&e.stamp);
+                publisher.record(e, at)
+            })
+            .collect();
+        Box::pin(async move {
+            for e in dds {
+                if let Err(e) = publisher.publish_dds(e).await {
+                    tracing::warn!("~/events publish failed: {e:?}");
+                }
+            }
+        })
+    }
 }
 
 #[cfg(test)]

@@ -159,7 +159,19 @@ pub struct ControllerHandle<E: Engine> {
 }
 
 /// The lossless stream of lockstep snapshots (see [`CycleConfig::stream_every`]).
-pub type StateStream<E> = tmpsc::Receiver<Arc<Stamped<<E as Engine>::Snapshot>>>;
+pub type StateStream<E> = tmpsc::Receiver<Arc<StreamItem<<E as Engine>::Snapshot>>>;
+
+/// One item of the lockstep state stream: a snapshot, and the command events of the cycles
+/// since the previous item, with their labels, in the order they happened. Readers that merge
+/// commands and states (the axis node's `~/events`) get both in one order, the same on every
+/// run.
+#[derive(Debug)]
+pub struct StreamItem<S> {
+    /// The snapshot.
+    pub state: Arc<Stamped<S>>,
+    /// Command events since the previous item, each with its label.
+    pub events: Vec<(TimedEvent, CommandLabel)>,
+}
 
 /// Snapshots in flight on the state stream before the cycle waits.
 const STREAM_CAPACITY: usize = 64;
@@ -256,7 +268,10 @@ impl<E: Engine> Controller<E> {
             if config.stream_every > 0 && config.mode == ClockMode::Lockstep {
                 let (tx, rx) = tmpsc::channel(STREAM_CAPACITY);
                 // The first state is cycle 0's.
-                let _ = tx.try_send(first.clone());
+                let _ = tx.try_send(Arc::new(StreamItem {
+                    state: first.clone(),
+                    events: Vec::new(),
+                }));
                 (Some(tx), Some(rx))
             } else {
                 (None, None)
@@ -299,6 +314,7 @@ impl<E: Engine> Controller<E> {
             clock: clock.clone(),
             held: None,
             stream: stream_tx,
+            stream_events: Vec::new(),
             script: VecDeque::new(),
             open: Default::default(),
             busy: busy.clone(),
@@ -609,7 +625,9 @@ struct CycleThread<E: Engine> {
     held: Option<CustomStep<E>>,
     /// The lossless state stream (lockstep with `stream_every` > 0); dropped when its reader
     /// is gone.
-    stream: Option<tmpsc::Sender<Arc<Stamped<E::Snapshot>>>>,
+    stream: Option<tmpsc::Sender<Arc<StreamItem<E::Snapshot>>>>,
+    /// Stream mode: the command events since the last streamed snapshot, with their labels.
+    stream_events: Vec<(TimedEvent, CommandLabel)>,
     /// The command script's steps still to run: (cycle, command), in running order.
     script: VecDeque<ScriptedCommand<E::Command>>,
     /// Accepted commands that have not ended yet.
@@ -817,10 +835,16 @@ impl<E: Engine> CycleThread<E> {
             if ev.state.is_final() {
                 self.open.remove(&ev.id);
             }
-            let _ = self.sink.all.send(TimedEvent {
+            let timed = TimedEvent {
                 event: ev,
                 ros_time_ns,
-            });
+            };
+            if self.stream.is_some() {
+                // Labelled here, before `~/command_status` forgets the label of an end.
+                self.stream_events
+                    .push((timed, self.labels.label_of(ev.id)));
+            }
+            let _ = self.sink.all.send(timed);
             if let Some(w) = self.watchers.get(&ev.id) {
                 let _ = w.send(ev);
                 if ev.state.is_final() {
@@ -853,7 +877,10 @@ impl<E: Engine> CycleThread<E> {
             return;
         }
         self.snapshot_current();
-        let snap = self.snap_tx.borrow().clone();
+        let snap = Arc::new(StreamItem {
+            state: self.snap_tx.borrow().clone(),
+            events: std::mem::take(&mut self.stream_events),
+        });
         let Some(tx) = self.stream.as_ref() else {
             return;
         };

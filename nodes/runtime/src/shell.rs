@@ -172,6 +172,16 @@ impl CommandRegistry {
             .unwrap_or_else(|e| e.into_inner())
             .insert(id, label);
     }
+    /// The label of a running command (empty if it has none).
+    pub fn label_of(&self, id: CmdId) -> CommandLabel {
+        self.labels
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&id)
+            .cloned()
+            .unwrap_or_default()
+    }
+
     fn label(&self, ev: &CommandEvent) -> CommandLabel {
         let mut m = self.labels.lock().unwrap_or_else(|e| e.into_inner());
         if ev.state.is_final() {
@@ -199,10 +209,10 @@ pub struct NodeShell<E: Engine> {
     spinner: Option<JoinHandle<()>>,
     /// Copies of the command events with their labels (see [`NodeShell::command_event_tap`]).
     taps: Vec<tokio::sync::mpsc::UnboundedSender<(CommandEvent, CommandLabel, i64)>>,
-    /// The state topics in stream mode, published in turn by one task (see
+    /// The state topics and stream readers in stream mode, served in turn by one task (see
     /// [`NodeShell::start_common`]).
-    streams: Vec<StreamTopic<E>>,
-    /// Stream mode: the cycle of the last snapshot all state topics published + 1 (0: none
+    streams: Vec<StreamReader<E>>,
+    /// Stream mode: the cycle of the last snapshot all state topics and readers took + 1 (0: none
     /// yet).
     stream_published: tokio::sync::watch::Receiver<u64>,
     /// The stream task's side of `stream_published`.
@@ -212,13 +222,14 @@ pub struct NodeShell<E: Engine> {
     stats_now: Option<tokio::sync::mpsc::UnboundedSender<tokio::sync::oneshot::Sender<()>>>,
 }
 
-/// One state topic in stream mode: builds its message from a snapshot and returns the
-/// publishing (recording it happens at once, before the future is polled only for DDS).
-type StreamTopic<E> = Box<
-    dyn Fn(&Stamped<<E as Engine>::Snapshot>) -> std::pin::Pin<Box<dyn Future<Output = ()> + Send>>
-        + Send
-        + Sync,
->;
+/// What a reader of the state stream does with an item after its synchronous part (e.g. a
+/// message to write to DDS).
+pub type StreamWork = std::pin::Pin<Box<dyn Future<Output = ()> + Send>>;
+
+/// A reader of the state stream in stream mode: a state topic (builds and records its message
+/// at once, returns the DDS write) or a [`NodeShell::stream_reader`].
+type StreamReader<E> =
+    Box<dyn FnMut(&crate::cycle::StreamItem<<E as Engine>::Snapshot>) -> StreamWork + Send>;
 
 /// The answer of a command service (README "ROS API rules"): accepted with the command id, or
 /// rejected with the error id and message; `id` reads the command id from the engine's reply.
@@ -439,15 +450,31 @@ where
         let Some(mut rx) = self.handle.take_state_stream() else {
             return;
         };
-        let topics = std::mem::take(&mut self.streams);
+        let mut readers = std::mem::take(&mut self.streams);
         self.tasks.spawn(async move {
-            while let Some(snap) = rx.recv().await {
-                for publish in &topics {
-                    publish(&snap).await;
+            while let Some(item) = rx.recv().await {
+                for read in &mut readers {
+                    read(&item).await;
                 }
-                done.send_replace(snap.cycle + 1);
+                done.send_replace(item.state.cycle + 1);
             }
         });
+    }
+
+    /// Stream mode (lockstep with a state stream): `read` gets every item of the stream (each
+    /// snapshot with the command events before it) after the state topics, in the stream's
+    /// task; the future it returns is awaited before the next item (the stream, and so the
+    /// lockstep cycle, waits for it), and [`NodeShell::states_flushed`] covers it. Returns
+    /// false (and drops `read`) in other modes. Call before the node starts.
+    pub fn stream_reader(
+        &mut self,
+        read: impl FnMut(&crate::cycle::StreamItem<E::Snapshot>) -> StreamWork + Send + 'static,
+    ) -> bool {
+        if !self.settings.state_stream {
+            return false;
+        }
+        self.streams.push(Box::new(read));
+        true
     }
 
     /// A copy of every command event, with its label and the ROS time of its cycle [ns], in
@@ -1004,8 +1031,9 @@ where
         if self.settings.state_stream {
             // Every streamed cycle, in order (see `spawn_state_stream`).
             let publisher = Arc::new(publisher);
-            self.streams.push(Box::new(move |snap| {
+            self.streams.push(Box::new(move |item| {
                 let publisher = publisher.clone();
+                let snap = &item.state;
                 let publish = publisher.record(build(snap), snap.ros_time_ns);
                 Box::pin(async move {
                     if let Some(msg) = publish {

@@ -431,7 +431,9 @@ fn lockstep_admits_commands_between_steps_and_applies_them_at_the_next_step() {
 
 /// Lockstep state stream (`state_publish_every_n_cycles`, issue 15.9): every n-th cycle from
 /// cycle 0, none dropped, in order, although one step runs far more cycles than the stream
-/// holds; the cycle waits for the reader.
+/// holds; the cycle waits for the reader. Each item carries the command events of the cycles
+/// since the item before, with their labels and the ROS time of their cycle (issue 14: the
+/// axis node's `~/events` merges both in this one order).
 #[test]
 fn lockstep_state_stream_carries_every_nth_cycle() {
     rt().block_on(async {
@@ -445,23 +447,49 @@ fn lockstep_state_stream_carries_every_nth_cycle() {
         assert!(h.take_state_stream().is_none(), "one reader");
         let reader = tokio::spawn(async move {
             let mut seen = Vec::new();
-            while let Some(s) = stream.recv().await {
+            let mut events = Vec::new();
+            while let Some(item) = stream.recv().await {
+                let s = &item.state;
                 seen.push((s.cycle, s.sim_time));
+                for (ev, label) in &item.events {
+                    events.push((
+                        s.cycle,
+                        ev.event.state,
+                        ev.ros_time_ns,
+                        label.command.clone(),
+                    ));
+                }
                 if s.cycle >= 300 {
                     break;
                 }
             }
-            seen
+            (seen, events)
         });
         h.submit(Cmd::SetVel(1.0), None).unwrap();
-        assert_eq!(h.step(150).await.unwrap(), 150);
+        let label = motion_runtime::CommandLabel {
+            object: "counter".into(),
+            command: "move".into(),
+        };
+        let call = h.call_labeled(Cmd::Move(4), label);
+        let (id, _) = tokio::join!(call, h.step(150));
+        assert!(id.unwrap().is_some());
         assert_eq!(h.step(150).await.unwrap(), 300);
-        let seen = reader.await.unwrap();
+        let (seen, events) = reader.await.unwrap();
         let cycles: Vec<u64> = seen.iter().map(|s| s.0).collect();
         assert_eq!(cycles, (0..=300).step_by(3).collect::<Vec<u64>>());
         assert!(seen
             .iter()
             .all(|(c, t)| (*c as f64 * 0.001 - t).abs() < 1e-12));
+        // The move: Active in cycle 1 (item of cycle 3), Done in cycle 4 (item of cycle 6),
+        // stamped with the ROS time after their cycle.
+        let t0 = h.snapshot().ros_time_ns - 300 * 1_000_000;
+        assert_eq!(
+            events,
+            vec![
+                (3, CommandState::Active, t0 + 1_000_000, "move".to_string()),
+                (6, CommandState::Done, t0 + 4_000_000, "move".to_string()),
+            ]
+        );
         drop(ctl);
     });
 }
