@@ -1611,6 +1611,53 @@ fn message_definitions(sources: &[(String, PathBuf)], packages: &[Package]) -> S
         }
         table.push((format!("{pkg}/msg/{name}"), def));
     }
+    // An action's feedback topic (`<action>/_action/feedback`) carries
+    // `<pkg>/action/<Name>_FeedbackMessage` = the goal's UUID and the feedback section of the
+    // `.action` file; the definition names both parts with their package.
+    for p in packages {
+        for i in &p.interfaces {
+            let Interface::Action { name, feedback, .. } = i else {
+                continue;
+            };
+            let pkg = &feedback.pkg;
+            let path = dir_of[pkg.as_str()]
+                .join("action")
+                .join(format!("{name}.action"));
+            let file = std::fs::read_to_string(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let section = file
+                .split("\n---")
+                .nth(2)
+                .unwrap_or_else(|| panic!("{}: no feedback section", path.display()))
+                .trim_start_matches(['\r', '\n']);
+            let mut def =
+                format!("unique_identifier_msgs/UUID goal_id\n{pkg}/{name}_Feedback feedback\n");
+            let uuid = ("unique_identifier_msgs".to_string(), "UUID".to_string());
+            let mut seen = BTreeSet::from([uuid.clone()]);
+            let mut order = Vec::new();
+            uses(feedback, &specs, &mut seen, &mut order);
+            let sections = [(uuid.0.clone(), uuid.1.clone(), text(&uuid.0, &uuid.1))]
+                .into_iter()
+                .chain(std::iter::once((
+                    pkg.clone(),
+                    format!("{name}_Feedback"),
+                    section.to_string(),
+                )))
+                .chain(order.into_iter().map(|(dp, dn)| {
+                    let t = text(&dp, &dn);
+                    (dp, dn, t)
+                }));
+            for (dpkg, dname, t) in sections {
+                if !def.ends_with('\n') {
+                    def.push('\n');
+                }
+                def.push_str(&"=".repeat(80));
+                let _ = write!(def, "\nMSG: {dpkg}/{dname}\n");
+                def.push_str(&t);
+            }
+            table.push((format!("{pkg}/action/{name}_FeedbackMessage"), def));
+        }
+    }
     // Sorted by the name as a string, for the binary search of `message_definition`.
     table.sort();
     for (name, def) in table {

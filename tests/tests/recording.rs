@@ -8,6 +8,10 @@
 //! Needs a python3 with `mcap_ros2` (`$MOTION_MSGS_PYTHON`, else `python3`); skipped with a
 //! message when there is none, unless `MOTION_MSGS_REQUIRE_MCAP` is set (the test command).
 
+use motion_msgs::action::{
+    MoveAbsolute as MoveAbsoluteAction, MoveAbsoluteFeedback, MoveAbsoluteGoal, MoveAbsoluteResult,
+};
+use ros2_client::action_msgs::GoalStatusEnum;
 use ros2_client::ServiceMapping;
 use std::process::Command;
 use system_tests::{launcher_bin, require_netns, unique_domain, within, workspace, ClientNode};
@@ -17,19 +21,40 @@ import sys
 from collections import Counter
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
+from mcap_ros2._dynamic import generate_dynamic
+
+class Factory(DecoderFactory):
+    """mcap_ros2's decoder, which also takes an action's feedback: its type names
+    (`<Action>_FeedbackMessage`, `<Action>_Feedback`) hold a `_`, which the rosidl parser it
+    vendors refuses (a rule for .msg file names); decoded with the underscores removed."""
+    def decoder_for(self, message_encoding, schema):
+        if schema is None or not schema.name.endswith('_FeedbackMessage'):
+            return super().decoder_for(message_encoding, schema)
+        assert message_encoding == 'cdr' and schema.encoding == 'ros2msg'
+        pkg, _, last = schema.name.split('/')
+        name = pkg + '/msg/' + last.replace('_', '')
+        action = last[: -len('_FeedbackMessage')]
+        text = schema.data.decode().replace(action + '_Feedback', action + 'Feedback')
+        return generate_dynamic(name, text)[name]
+
 count = Counter()
 joints = set()
+feedback = None
 with open(sys.argv[1], 'rb') as f:
-    r = make_reader(f, decoder_factories=[DecoderFactory()])
+    r = make_reader(f, decoder_factories=[Factory()])
     print('profile', r.get_header().profile)
     for schema, channel, message, m in r.iter_decoded_messages(log_time_order=True):
         assert schema.encoding == 'ros2msg' and channel.message_encoding == 'cdr'
         count[(channel.topic, schema.name)] += 1
         if channel.topic == '/joint_states':
             joints.update(m.name)
+        if channel.topic.endswith('/_action/feedback'):
+            feedback = (bytes(m.goal_id.uuid).hex(), m.feedback.position)
 for (topic, ty), n in sorted(count.items()):
     print(topic, ty, n)
 print('joints', ' '.join(sorted(joints)))
+if feedback:
+    print('feedback', feedback[0], feedback[1])
 "#;
 
 fn python() -> Option<String> {
@@ -139,6 +164,8 @@ fn the_demo_records_every_state_topic_to_mcap() {
         ),
         ("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray", 3),
         ("/tf_static", "tf2_msgs/msg/TFMessage", 3),
+        // Each node's "node started" line at least.
+        ("/rosout", "rcl_interfaces/msg/Log", 3),
     ] {
         let n = count(topic, ty);
         assert!(
@@ -167,8 +194,9 @@ fn a_recording_that_cannot_be_created_is_a_configuration_error() {
     assert!(!log.contains("node started"), "{log}");
 }
 
-/// The config key `record:` records too; with a client's orders the node's `~/events` and
-/// `~/command_status` are in the recording as well.
+/// The config key `record:` records too; with a client's orders the node's `~/events`,
+/// `~/command_status`, `/rosout` and an action's feedback (`<Name>_FeedbackMessage`: the
+/// goal's id and the feedback) are in the recording as well.
 #[test]
 fn the_launch_config_key_records_events_and_command_status() {
     require_netns();
@@ -186,14 +214,14 @@ fn the_launch_config_key_records_events_and_command_status() {
     let domain = unique_domain();
     let child = Command::new(launcher_bin())
         .arg(&config)
-        .args(["--duration", "6"])
+        .args(["--duration", "10"])
         .env("ROS_DOMAIN_ID", domain.to_string())
         .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("motion_launch");
     let rt = tokio::runtime::Runtime::new().unwrap();
-    rt.block_on(async {
+    let goal_id = rt.block_on(async {
         use motion_msgs::srv::{Reset, ResetRequest, ResetResponse};
         let mut c = ClientNode::new(domain, "recording_client", ServiceMapping::Enhanced);
         c.power_on("x").await;
@@ -208,6 +236,25 @@ fn the_launch_config_key_records_events_and_command_status() {
         .await
         .expect("reset reply");
         assert!(r.accepted, "reset: {}", r.message);
+        let ac = c
+            .action::<MoveAbsoluteGoal, MoveAbsoluteResult, MoveAbsoluteFeedback>(
+                "/axis_node/move_absolute",
+                &MoveAbsoluteAction::action_type_name(),
+            )
+            .await;
+        let goal = MoveAbsoluteGoal {
+            axis: "x".into(),
+            position: 50.0,
+            velocity: 100.0,
+            ..Default::default()
+        };
+        let (gid, resp) = system_tests::send_goal(&ac, "move_absolute", goal).await;
+        assert!(resp.accepted, "goal accepted");
+        let (status, result) = within(20.0, "move result", ac.async_request_result(gid))
+            .await
+            .expect("result");
+        assert_eq!(status, GoalStatusEnum::Succeeded, "{result:?}");
+        gid.uuid.simple().to_string()
     });
     let out = child.wait_with_output().expect("motion_launch");
     let log = String::from_utf8_lossy(&out.stderr);
@@ -226,9 +273,20 @@ fn the_launch_config_key_records_events_and_command_status() {
         "/axis_node/events motion_msgs/msg/AxisEvent ",
         "/axis_node/command_status motion_msgs/msg/CommandStatus ",
         "/axis_node/axis_states motion_msgs/msg/AxisStateArray ",
+        "/rosout rcl_interfaces/msg/Log ",
+        "/axis_node/move_absolute/_action/feedback motion_msgs/action/MoveAbsolute_FeedbackMessage ",
     ] {
         assert!(got.contains(topic), "{topic}missing:\n{got}");
     }
+    // The last feedback of the goal: its id, the axis on the way to 50 mm or there.
+    let fb: Vec<&str> = got
+        .lines()
+        .find(|l| l.starts_with("feedback "))
+        .map(|l| l.split(' ').collect())
+        .unwrap_or_default();
+    assert_eq!(fb.get(1), Some(&goal_id.as_str()), "{got}");
+    let position: f64 = fb.get(2).and_then(|p| p.parse().ok()).unwrap_or(f64::NAN);
+    assert!(position > 0.0 && position <= 50.0 + 1e-9, "{got}");
 }
 
 /// The stamps of `~/axis_states` in the recording: count, first, smallest and largest step
@@ -346,7 +404,8 @@ print("max x", last.get("x"), "last m2", last.get("m2"))
 /// Item 4 of issue 14: a lockstep run with a command script (the demo machine moving by
 /// itself) recorded twice gives the same messages, bit for bit (stamps included), on every
 /// channel but those paced by the wall clock: `/diagnostics` and `~/cycle_stats` (measured
-/// execution times, 1 Hz) and `/clock` (published at a wall-clock rate). The axis node's
+/// execution times, 1 Hz), `/clock` (published at a wall-clock rate) and `/rosout` (stamped
+/// with the system time, as rcl does; at this log level empty anyway). The axis node's
 /// `~/events` (the script's acknowledgements, plcopen_platform.md §12.1) is among the equal
 /// ones: in a stream its events follow the cycles, not the wall clock.
 #[test]
@@ -380,7 +439,7 @@ fn a_scripted_lockstep_run_replays_bit_identically() {
     let strip = |d: &str| -> Vec<String> {
         d.lines()
             .filter(|l| {
-                !["/diagnostics ", "/clock "]
+                !["/diagnostics ", "/clock ", "/rosout "]
                     .iter()
                     .any(|t| l.starts_with(t))
                     && !l.split(' ').next().unwrap_or("").ends_with("/cycle_stats")

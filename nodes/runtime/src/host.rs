@@ -508,7 +508,13 @@ where
         let mut params = common.parameters();
         params.extend(extra_parameters);
         let mut shell = NodeShell::new(&context, common.shell()?, controller.handle(), params)?;
-        crate::logging::route_to_rosout(&common.name, shell.node.logging_handle());
+        let h = controller.handle();
+        let now: crate::logging::RosNow = std::sync::Arc::new(move || match h.clock().source() {
+            crate::clock::TimeSource::System => crate::clock::system_ns(),
+            // Simulated: the time of the last cycle run.
+            crate::clock::TimeSource::Simulated => h.snapshot().ros_time_ns,
+        });
+        crate::logging::route_to_rosout(&common.name, shell.node.logging_handle(), now);
         let span = crate::logging::node_span(&common.name);
         let _in_node = span.enter();
         // One `ros_discovery_info` sample for all the endpoints made here, not one per

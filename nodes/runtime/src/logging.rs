@@ -2,8 +2,12 @@
 //! (rcl_interfaces/Log, with the node's name) through the node's logging handle, as rclcpp
 //! nodes do. "On behalf of a node" = inside that node's span ([`node_span`]): its ROS tasks,
 //! its cycle thread and its start-up run in it, so runtime lines (start-up, refused commands,
-//! errors) reach `/rosout` as well as the node crates' own.
+//! errors) reach `/rosout` as well as the node crates' own. The same messages go to the
+//! recording and the live feed ([`crate::record::RecordedTopic`]), logged at the node's ROS
+//! time (simulated in lockstep), as `ros2 bag record --use-sim-time` would receive them; their
+//! `stamp` is the system time, as rcl stamps `/rosout`.
 
+use motion_msgs::deps::rcl_interfaces::msg::Log;
 use ros2_client::log::LogLevel;
 use ros2_client::rosout::{NodeLoggingHandle, RosoutRaw};
 use std::sync::{Mutex, OnceLock};
@@ -18,7 +22,16 @@ use tracing_subscriber::{EnvFilter, Layer};
 pub const DEFAULT_FILTER: &str =
     "info,rustdds=error,ros2_client=warn,ros2_client::distributions=error";
 
-type Routes = Mutex<Vec<(String, NodeLoggingHandle)>>;
+/// A node's ROS time now [ns] (see [`crate::clock`]).
+pub type RosNow = std::sync::Arc<dyn Fn() -> i64 + Send + Sync>;
+
+type Routes = Mutex<Vec<(String, NodeLoggingHandle, RosNow)>>;
+
+/// `/rosout` as the recording and the live feed see it (one topic for every node).
+fn rosout_topic() -> &'static crate::record::RecordedTopic {
+    static TOPIC: OnceLock<crate::record::RecordedTopic> = OnceLock::new();
+    TOPIC.get_or_init(|| crate::record::RecordedTopic::new("/rosout", Log::ROS_TYPE_NAME))
+}
 
 /// The span of a node's work; events inside it go to that node's `/rosout`.
 pub fn node_span(node_name: &str) -> tracing::Span {
@@ -41,11 +54,12 @@ pub fn init() {
         .try_init();
 }
 
-/// Sends events inside the span of node `node_name` ([`node_span`]) to that node's `/rosout`.
-pub fn route_to_rosout(node_name: &str, handle: NodeLoggingHandle) {
+/// Sends events inside the span of node `node_name` ([`node_span`]) to that node's `/rosout`;
+/// `now` is the node's ROS time (the recording's log time).
+pub fn route_to_rosout(node_name: &str, handle: NodeLoggingHandle, now: RosNow) {
     let mut r = routes().lock().unwrap_or_else(|e| e.into_inner());
-    r.retain(|(n, _)| n != node_name); // a restarted node replaces its old handle
-    r.push((node_name.to_string(), handle));
+    r.retain(|(n, _, _)| n != node_name); // a restarted node replaces its old handle
+    r.push((node_name.to_string(), handle, now));
 }
 
 /// Stops routing to `node_name`'s `/rosout` (the node is going away).
@@ -53,7 +67,7 @@ pub fn unroute(node_name: &str) {
     routes()
         .lock()
         .unwrap_or_else(|e| e.into_inner())
-        .retain(|(n, _)| n != node_name);
+        .retain(|(n, _, _)| n != node_name);
 }
 
 struct RosoutLayer;
@@ -116,7 +130,7 @@ where
         let Ok(routes) = routes().try_lock() else {
             return;
         };
-        let Some((_, handle)) = routes.iter().find(|(n, _)| n == node) else {
+        let Some((_, handle, now)) = routes.iter().find(|(n, _, _)| n == node) else {
             return;
         };
         let mut v = MessageVisitor(String::new());
@@ -127,15 +141,25 @@ where
             Level::INFO => LogLevel::Info,
             _ => LogLevel::Debug,
         };
-        let stamp = ros2_client::builtin_interfaces::Time::now();
+        let wall = crate::clock::system_ns();
+        let log = Log {
+            stamp: crate::shell::stamp_ns(wall),
+            level: level as u8,
+            name: handle.base_name().to_string(),
+            msg: v.0,
+            file: meta.file().unwrap_or("").to_string(),
+            function: meta.module_path().unwrap_or("").to_string(),
+            line: meta.line().unwrap_or(0),
+        };
+        rosout_topic().take(&log, now());
         handle.rosout_raw(
-            stamp,
+            ros2_client::builtin_interfaces::Time::from_nanos(wall),
             level,
-            handle.base_name(),
-            &v.0,
-            meta.file().unwrap_or(""),
-            meta.module_path().unwrap_or(""),
-            meta.line().unwrap_or(0),
+            &log.name,
+            &log.msg,
+            &log.file,
+            &log.function,
+            log.line,
         );
     }
 }

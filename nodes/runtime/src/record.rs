@@ -154,7 +154,7 @@ struct Recorder {
 enum Entry {
     Message {
         topic: std::sync::Arc<str>,
-        ros_type: &'static str,
+        ros_type: std::sync::Arc<str>,
         stamp_ns: u64,
         data: Vec<u8>,
     },
@@ -222,7 +222,7 @@ pub fn start(path: &Path) -> Result<(), RecordError> {
                         data,
                     } => {
                         if failed.is_none() {
-                            match rec.write_cdr(&topic, ros_type, stamp_ns, &data) {
+                            match rec.write_cdr(&topic, &ros_type, stamp_ns, &data) {
                                 Ok(()) => written += 1,
                                 Err(e) => {
                                     tracing::error!("{e}; recording stopped");
@@ -253,7 +253,7 @@ fn recording() -> bool {
 /// Hands an already serialized message to the recording. Never blocks.
 fn record_serialized(
     topic: &std::sync::Arc<str>,
-    ros_type: &'static str,
+    ros_type: &std::sync::Arc<str>,
     stamp_ns: u64,
     data: Vec<u8>,
 ) {
@@ -262,7 +262,7 @@ fn record_serialized(
     };
     let entry = Entry::Message {
         topic: topic.clone(),
-        ros_type,
+        ros_type: ros_type.clone(),
         stamp_ns,
         data,
     };
@@ -297,17 +297,61 @@ pub fn time_ns(t: &motion_msgs::deps::builtin_interfaces::msg::Time) -> i64 {
     i64::from(t.sec) * 1_000_000_000 + i64::from(t.nanosec)
 }
 
-/// A node's publisher whose messages also go to the process's recording and live feed
-/// ([`crate::live`]), when it has them: the one place where publishing, recording and the live
-/// feed meet (every publisher of the shell and the nodes). A message is serialized once, and
-/// only when someone takes it.
-pub struct RecordedPublisher<M: serde::Serialize> {
-    publisher: ros2_client::Publisher<M>,
+/// A topic as the recording and the live feed ([`crate::live`]) see it: its name, type, the
+/// live channel (looked up at the first message) and the length of its last message. One
+/// per publisher ([`RecordedPublisher`]), or for messages that a dependency publishes (`/rosout`).
+pub struct RecordedTopic {
     topic: std::sync::Arc<str>,
+    ros_type: std::sync::Arc<str>,
     /// Length of the last serialized message (the next one is likely as long).
     size: std::sync::atomic::AtomicUsize,
-    /// The live feed's channel of this topic, looked up at the first message.
     live: std::sync::OnceLock<Option<std::sync::Arc<foxglove::RawChannel>>>,
+}
+
+impl RecordedTopic {
+    /// The topic named `topic` (its full ROS name) of type `ros_type` (`pkg/msg/Name`).
+    pub fn new(topic: impl std::fmt::Display, ros_type: impl Into<std::sync::Arc<str>>) -> Self {
+        RecordedTopic {
+            topic: topic.to_string().into(),
+            ros_type: ros_type.into(),
+            size: std::sync::atomic::AtomicUsize::new(0),
+            live: std::sync::OnceLock::new(),
+        }
+    }
+
+    /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
+    /// feed (if a client subscribed to the topic). Never waits; serializes only when someone
+    /// takes the message.
+    pub fn take<M: serde::Serialize>(&self, msg: &M, stamp_ns: i64) {
+        let live = self
+            .live
+            .get_or_init(|| crate::live::channel(&self.topic, &self.ros_type))
+            .as_ref()
+            .filter(|c| c.has_sinks());
+        if !recording() && live.is_none() {
+            return;
+        }
+        let size = self.size.load(std::sync::atomic::Ordering::Relaxed);
+        let Ok(data) = serialized(msg, size) else {
+            return;
+        };
+        self.size
+            .store(data.len(), std::sync::atomic::Ordering::Relaxed);
+        let stamp = stamp_ns.max(0) as u64;
+        if let Some(c) = live {
+            c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
+        }
+        record_serialized(&self.topic, &self.ros_type, stamp, data);
+    }
+}
+
+/// A node's publisher whose messages also go to the process's recording and live feed, when
+/// it has them: the one place where publishing, recording and the live feed meet (every
+/// publisher of the shell and the nodes). A message is serialized once, and only when someone
+/// takes it.
+pub struct RecordedPublisher<M: serde::Serialize> {
+    publisher: ros2_client::Publisher<M>,
+    topic: RecordedTopic,
 }
 
 impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
@@ -315,9 +359,7 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
     pub fn new(publisher: ros2_client::Publisher<M>, topic: impl std::fmt::Display) -> Self {
         RecordedPublisher {
             publisher,
-            topic: topic.to_string().into(),
-            size: std::sync::atomic::AtomicUsize::new(0),
-            live: std::sync::OnceLock::new(),
+            topic: RecordedTopic::new(topic, M::ROS_TYPE_NAME),
         }
     }
 
@@ -333,23 +375,7 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
     /// The first half of [`RecordedPublisher::publish`], which never waits: records `msg` and
     /// logs it to the live feed; returns it when it is to be written to DDS too.
     pub fn record(&self, msg: M, stamp_ns: i64) -> Option<M> {
-        let live = self
-            .live
-            .get_or_init(|| crate::live::channel(&self.topic, M::ROS_TYPE_NAME))
-            .as_ref()
-            .filter(|c| c.has_sinks());
-        if recording() || live.is_some() {
-            let size = self.size.load(std::sync::atomic::Ordering::Relaxed);
-            if let Ok(data) = serialized(&msg, size) {
-                self.size
-                    .store(data.len(), std::sync::atomic::Ordering::Relaxed);
-                let stamp = stamp_ns.max(0) as u64;
-                if let Some(c) = live {
-                    c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
-                }
-                record_serialized(&self.topic, M::ROS_TYPE_NAME, stamp, data);
-            }
-        }
+        self.topic.take(&msg, stamp_ns);
         if RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
             return None;
         }

@@ -878,7 +878,21 @@ where
         let server = Arc::new(AsyncActionServer::new(server));
         server.set_result_timeout(self.settings.result_timeout);
         let binding = Arc::new(binding);
-        let book: Arc<GoalBook> = Arc::default();
+        let action_name = private_name(&self.settings, name)?;
+        let type_name = B::action_type_name();
+        let book = Arc::new(GoalBook {
+            feedback: crate::record::RecordedTopic::new(
+                format!("{action_name}/_action/feedback"),
+                format!(
+                    "{}/action/{}_FeedbackMessage",
+                    type_name.package_name(),
+                    type_name.type_name()
+                ),
+            ),
+            goals: Default::default(),
+            canceled: Default::default(),
+            instances: Default::default(),
+        });
         let feedback_period = Duration::from_secs_f64(1.0 / self.settings.state_rate.max(1.0));
 
         // Result requests, per goal: answered when the goal ends (or at once when it has),
@@ -1240,14 +1254,22 @@ struct Retrigger {
 type Instances = Mutex<std::collections::HashMap<String, Arc<Retrigger>>>;
 
 /// The running goals of one action server.
-#[derive(Default)]
 struct GoalBook {
+    /// The feedback topic as the recording and the live feed see it.
+    feedback: crate::record::RecordedTopic,
     /// Goal → the engine command it runs.
     goals: Mutex<BTreeMap<ros2_client::action::GoalId, CmdId>>,
     /// Goals whose cancel was accepted: they end as Canceled when the command is aborted.
     canceled: Mutex<BTreeSet<ros2_client::action::GoalId>>,
     /// Goals by FB instance name (re-trigger).
     instances: Instances,
+}
+
+/// An action's feedback as its topic carries it (`<Name>_FeedbackMessage`), for the recording.
+#[derive(serde::Serialize)]
+struct FeedbackMessage<'a, F> {
+    goal_id: ros2_client::action::GoalId,
+    feedback: &'a F,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -1358,6 +1380,13 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
                     break end;
                 }
                 let fb = binding.feedback_of(goal, id, &snap, state);
+                book.feedback.take(
+                    &FeedbackMessage {
+                        goal_id,
+                        feedback: &fb,
+                    },
+                    snap.ros_time_ns,
+                );
                 let _ = server.publish_feedback(executing.clone(), fb).await;
                 if let Some(query) = binding.reached_query(id) {
                     if matches!(handle.call(query).await, Ok(r) if binding.reached(&r)) {
