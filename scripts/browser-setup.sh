@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what the live view's browser test needs, only what is missing (idempotent):
-# Debian's chromium (headless) and playwright-core from npm (tests/web, pinned in
-# package-lock.json; it drives the installed chromium, it downloads no browser).
+# Debian's chromium (headless), and from npm (tests/web, pinned in package-lock.json)
+# playwright-core (drives the installed chromium, downloads no browser) and Foxglove's MCAP,
+# WebSocket and ROS 2 message libraries (tests/web/foxglove_decode.mjs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
@@ -13,6 +14,6 @@ fi
 command -v npm >/dev/null || { echo "browser-setup: npm (Node.js) is required" >&2; exit 1; }
 # node_modules/.installed-from: the lock file it was installed from (reinstall when it changes).
 if ! cmp -s tests/web/package-lock.json tests/web/node_modules/.installed-from 2>/dev/null; then
-  echo "browser-setup: installing playwright-core (npm ci)"
+  echo "browser-setup: installing tests/web's npm packages (npm ci)"
   (cd tests/web && npm ci --no-audit --no-fund --silent && cp package-lock.json node_modules/.installed-from)
 fi

@@ -3,6 +3,7 @@
 
 pub mod docs;
 pub mod flood;
+pub mod foxglove;
 pub mod moving_demo;
 
 use motion_core::Engine;

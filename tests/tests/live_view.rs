@@ -3,6 +3,8 @@
 //! from npm) loads the page inside the private network namespace. The page must connect, list
 //! the demo's movers, axes and nodes, draw the scope, and two screenshots a second apart must
 //! differ where the movers are and nowhere else. The screenshots stay in `target/live-view/`.
+//! The same feed through the Foxglove app's own client and decoders (npm, `foxglove_decode.mjs`)
+//! must parse every schema and decode every message.
 //!
 //! Needs `/usr/bin/chromium` and `tests/web/node_modules` (scripts/browser-setup.sh, which the
 //! test command runs); without them the test is skipped unless MOTION_REQUIRE_BROWSER=1.
@@ -57,18 +59,35 @@ fn the_page_shows_the_moving_demo_in_a_real_browser() {
         }
     });
     let end = Instant::now() + Duration::from_secs(30);
-    let page = loop {
+    let (feed, page) = loop {
         let l = rx
             .recv_timeout(end.saturating_duration_since(Instant::now()))
             .expect("the launcher prints the page's address within 30 s");
-        if let Some(i) = l.find("page http://") {
-            break l[i + 5..].trim().to_string();
+        if let (Some(f), Some(i)) = (l.find("ws://"), l.find("page http://")) {
+            let feed = l[f..].split([' ', ';']).next().unwrap_or("").to_string();
+            break (feed, l[i + 5..].trim().to_string());
         }
     };
     assert!(
         page.starts_with("http://127.0.0.1:"),
         "loopback only: {page}"
     );
+    // The feed as the Foxglove app takes it (its own client and decoders, 3 s): every channel's
+    // schema parses, every message decodes, the three machines' topics arrive.
+    let fox = system_tests::foxglove::decode(&["live", &feed, "3"]);
+    for topic in [
+        "/axis_node/axis_states",
+        "/joint_states",
+        "/planar_node/state",
+        "/planar_node/markers",
+        "/pickplace_node/state",
+        "/pickplace_node/markers",
+    ] {
+        assert!(
+            fox.get(topic).is_some_and(|t| t.count > 0),
+            "{topic} through Foxglove's client: {fox:?}"
+        );
+    }
     let shots = workspace().join("target/live-view");
     let run = Command::new("node")
         .arg(workspace().join("tests/web/live_view.mjs"))

@@ -266,6 +266,22 @@ fn the_launch_config_key_records_events_and_command_status() {
     assert_eq!(head[8], 0x01);
     assert_eq!(&head[17..21], &4u32.to_le_bytes());
     assert_eq!(&head[21..25], b"ros2");
+    // The Foxglove app's own decoders take every message of every channel, the action's
+    // feedback included.
+    if system_tests::foxglove::ready() {
+        let fox = system_tests::foxglove::decode(&["mcap", &file.to_string_lossy()]);
+        let fb = &fox["/axis_node/move_absolute/_action/feedback"];
+        assert_eq!(fb.schema, "motion_msgs/action/MoveAbsolute_FeedbackMessage");
+        assert!(
+            fb.count > 0 && fb.last["feedback"]["position"].as_f64() > Some(0.0),
+            "{fb:?}"
+        );
+        assert!(
+            fox["/rosout"].count > 0 && fox["/axis_node/events"].count > 0,
+            "{fox:?}"
+        );
+        assert_eq!(fox["/axis_node/axis_states"].last["axes"][0]["name"], "x");
+    }
     let got = read_back(&file);
     let _ = std::fs::remove_dir_all(&dir);
     let Some(got) = got else { return };
