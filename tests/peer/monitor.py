@@ -51,6 +51,8 @@ NEXT_STEPS = """What to try next (README "From the ros2 CLI and rclpy" and the n
   ros2 action send_goal --feedback /axis_node/move_absolute motion_msgs/action/MoveAbsolute \\
       "{axis: x, position: 100.0, velocity: 500.0}"
   rviz2 (Fixed Frame world): MarkerArray /planar_node/markers and /pickplace_node/markers
+  the live view: the page and Foxglove / Lichtblick addresses printed above (README "See it")
+  motion_launch CONFIG --record run.mcap, then motion_plot run.mcap --out plots/
 Ctrl-C stops the machine."""
 
 
