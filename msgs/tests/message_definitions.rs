@@ -31,7 +31,9 @@ fn cdr<T: serde::Serialize>(v: &T) -> Vec<u8> {
 /// Decodes each sample `i` (files `i.type`, `i.def`, `i.cdr`, `i.check`) with a decoder built
 /// from the definition alone and evaluates the check expressions on it (`m` = the message);
 /// then builds a decoder from every definition of the table (`all.tsv`).
-const PY: &str = r#"
+const PY: &str = concat!(
+    include_str!("feedback_names.py"),
+    r#"
 import os, sys
 from mcap_ros2._dynamic import generate_dynamic
 d = sys.argv[1]
@@ -43,6 +45,7 @@ for f in sorted(os.listdir(d)):
     name = open(os.path.join(d, i + '.type')).read()
     text = open(os.path.join(d, i + '.def'), encoding='utf-8').read()
     data = open(os.path.join(d, i + '.cdr'), 'rb').read()
+    name, text = parsable(name, text)
     m = generate_dynamic(name, text)[name](data)
     for line in open(os.path.join(d, i + '.check'), encoding='utf-8').read().splitlines():
         if not eval(line, {}, {'m': m}):
@@ -53,10 +56,11 @@ for row in open(os.path.join(d, 'all.tsv'), encoding='utf-8').read().split('\x1e
     if not row:
         continue
     name, text = row.split('\x1f', 1)
-    generate_dynamic(name, text)
+    generate_dynamic(*parsable(name, text))
     k += 1
 print('decoded', n, 'parsed', k)
-"#;
+"#
+);
 
 fn python() -> Option<String> {
     let candidates = std::env::var("MOTION_MSGS_PYTHON")
@@ -68,6 +72,13 @@ fn python() -> Option<String> {
             .output()
             .is_ok_and(|o| o.status.success())
     })
+}
+
+/// `<pkg>/action/<Name>_FeedbackMessage` as an action server publishes it.
+#[derive(serde::Serialize)]
+struct FeedbackMessage<F> {
+    goal_id: [u8; 16],
+    feedback: F,
 }
 
 struct Sample {
@@ -220,6 +231,26 @@ fn a_reader_with_only_the_definition_decodes_our_messages() {
                 "m.status[0].values[0].key == 'overruns' and m.status[0].values[0].value == '3'",
             ],
         ),
+        // An action's feedback as its topic carries it: the goal's UUID, then the feedback.
+        Sample {
+            ty: "motion_msgs/action/MoveAbsolute_FeedbackMessage",
+            cdr: cdr(&FeedbackMessage {
+                goal_id: std::array::from_fn(|i| i as u8),
+                feedback: motion_msgs::action::MoveAbsoluteFeedback {
+                    busy: true,
+                    active: true,
+                    position: 12.5,
+                    velocity: -3.0,
+                    order_id: 7,
+                    axis_state: 6,
+                },
+            }),
+            checks: vec![
+                "bytes(m.goal_id.uuid) == bytes(range(16))".into(),
+                "m.feedback.busy and m.feedback.position == 12.5".into(),
+                "m.feedback.velocity == -3.0 and m.feedback.axis_state == 6".into(),
+            ],
+        },
     ];
     let dir = std::env::temp_dir().join(format!("motion_msgs_defs_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

@@ -16,7 +16,9 @@ use ros2_client::ServiceMapping;
 use std::process::Command;
 use system_tests::{launcher_bin, require_netns, unique_domain, within, workspace, ClientNode};
 
-const PY: &str = r#"
+const PY: &str = concat!(
+    include_str!("../../msgs/tests/feedback_names.py"),
+    r#"
 import sys
 from collections import Counter
 from mcap.reader import make_reader
@@ -24,17 +26,12 @@ from mcap_ros2.decoder import DecoderFactory
 from mcap_ros2._dynamic import generate_dynamic
 
 class Factory(DecoderFactory):
-    """mcap_ros2's decoder, which also takes an action's feedback: its type names
-    (`<Action>_FeedbackMessage`, `<Action>_Feedback`) hold a `_`, which the rosidl parser it
-    vendors refuses (a rule for .msg file names); decoded with the underscores removed."""
+    """mcap_ros2's decoder, which also takes an action's feedback (see `parsable`)."""
     def decoder_for(self, message_encoding, schema):
         if schema is None or not schema.name.endswith('_FeedbackMessage'):
             return super().decoder_for(message_encoding, schema)
         assert message_encoding == 'cdr' and schema.encoding == 'ros2msg'
-        pkg, _, last = schema.name.split('/')
-        name = pkg + '/msg/' + last.replace('_', '')
-        action = last[: -len('_FeedbackMessage')]
-        text = schema.data.decode().replace(action + '_Feedback', action + 'Feedback')
+        name, text = parsable(schema.name, schema.data.decode())
         return generate_dynamic(name, text)[name]
 
 count = Counter()
@@ -55,7 +52,8 @@ for (topic, ty), n in sorted(count.items()):
 print('joints', ' '.join(sorted(joints)))
 if feedback:
     print('feedback', feedback[0], feedback[1])
-"#;
+"#
+);
 
 fn python() -> Option<String> {
     let candidates = std::env::var("MOTION_MSGS_PYTHON")
