@@ -193,8 +193,8 @@ fn a_recording_that_cannot_be_created_is_a_configuration_error() {
 }
 
 /// The config key `record:` records too; with a client's orders the node's `~/events`,
-/// `~/command_status`, `/rosout` and an action's feedback (`<Name>_FeedbackMessage`: the
-/// goal's id and the feedback) are in the recording as well.
+/// `~/command_status`, `/rosout`, an action's feedback (`<Name>_FeedbackMessage`: the goal's
+/// id and the feedback) and its status are in the recording as well.
 #[test]
 fn the_launch_config_key_records_events_and_command_status() {
     require_netns();
@@ -278,6 +278,25 @@ fn the_launch_config_key_records_events_and_command_status() {
             fox["/rosout"].count > 0 && fox["/axis_node/events"].count > 0,
             "{fox:?}"
         );
+        // The action's status as the server published it last: the goal SUCCEEDED (4).
+        let status = &fox["/axis_node/move_absolute/_action/status"];
+        assert_eq!(status.schema, "action_msgs/msg/GoalStatusArray");
+        let ours = status.last["status_list"].as_array().and_then(|l| {
+            l.iter().find(|g| {
+                let uuid = g["goal_info"]["goal_id"]["uuid"].as_array();
+                let hex: String = uuid
+                    .into_iter()
+                    .flatten()
+                    .map(|b| format!("{:02x}", b.as_u64().unwrap_or(256)))
+                    .collect();
+                hex == goal_id
+            })
+        });
+        assert_eq!(
+            ours.map(|g| g["status"].clone()),
+            Some(4.into()),
+            "{status:?}"
+        );
         assert_eq!(fox["/axis_node/axis_states"].last["axes"][0]["name"], "x");
     }
     let got = read_back(&file);
@@ -289,6 +308,7 @@ fn the_launch_config_key_records_events_and_command_status() {
         "/axis_node/axis_states motion_msgs/msg/AxisStateArray ",
         "/rosout rcl_interfaces/msg/Log ",
         "/axis_node/move_absolute/_action/feedback motion_msgs/action/MoveAbsolute_FeedbackMessage ",
+        "/axis_node/move_absolute/_action/status action_msgs/msg/GoalStatusArray ",
     ] {
         assert!(got.contains(topic), "{topic}missing:\n{got}");
     }

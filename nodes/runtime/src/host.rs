@@ -508,12 +508,7 @@ where
         let mut params = common.parameters();
         params.extend(extra_parameters);
         let mut shell = NodeShell::new(&context, common.shell()?, controller.handle(), params)?;
-        let h = controller.handle();
-        let now: crate::logging::RosNow = std::sync::Arc::new(move || match h.clock().source() {
-            crate::clock::TimeSource::System => crate::clock::system_ns(),
-            // Simulated: the time of the last cycle run.
-            crate::clock::TimeSource::Simulated => h.snapshot().ros_time_ns,
-        });
+        let now = shell::ros_now(&controller.handle());
         crate::logging::route_to_rosout(&common.name, shell.node.logging_handle(), now);
         let span = crate::logging::node_span(&common.name);
         let _in_node = span.enter();

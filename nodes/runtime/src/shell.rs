@@ -231,6 +231,16 @@ pub type StreamWork = std::pin::Pin<Box<dyn Future<Output = ()> + Send>>;
 type StreamReader<E> =
     Box<dyn FnMut(&crate::cycle::StreamItem<<E as Engine>::Snapshot>) -> StreamWork + Send>;
 
+/// The node's ROS time now [ns]: the system clock in real time, the time of the last cycle in
+/// simulated time (for messages that no cycle stamps: `/rosout`, an action's status).
+pub fn ros_now<E: Engine>(handle: &ControllerHandle<E>) -> crate::logging::RosNow {
+    let h = handle.clone();
+    Arc::new(move || match h.clock().source() {
+        crate::clock::TimeSource::System => crate::clock::system_ns(),
+        crate::clock::TimeSource::Simulated => h.snapshot().ros_time_ns,
+    })
+}
+
 /// The answer of a command service (README "ROS API rules"): accepted with the command id, or
 /// rejected with the error id and message; `id` reads the command id from the engine's reply.
 pub fn respond<R: motion_msgs::CommandResponse, T>(
@@ -877,8 +887,16 @@ where
             .map_err(err("action server"))?;
         let server = Arc::new(AsyncActionServer::new(server));
         server.set_result_timeout(self.settings.result_timeout);
-        let binding = Arc::new(binding);
         let action_name = private_name(&self.settings, name)?;
+        // The status topic, which the server publishes itself, into the recording and the
+        // live feed too.
+        let status = crate::record::RecordedTopic::new(
+            format!("{action_name}/_action/status"),
+            "action_msgs/msg/GoalStatusArray",
+        );
+        let now = ros_now(&self.handle);
+        server.set_status_observer(Box::new(move |s| status.take(s, now())));
+        let binding = Arc::new(binding);
         let type_name = B::action_type_name();
         let book = Arc::new(GoalBook {
             feedback: crate::record::RecordedTopic::new(

@@ -264,7 +264,14 @@ where
   finished_goals: Mutex<Vec<GoalId>>,
   // motion-suite patch: results are served per goal (see `serve_result_requests`).
   results: Mutex<ResultBook<R>>,
+  // motion-suite patch: sees every status array before it is published (see
+  // `set_status_observer`).
+  status_observer: Mutex<Option<StatusObserver>>,
 }
+
+/// motion-suite patch: a copy of each published `GoalStatusArray` (e.g. for a
+/// recording of the action's status topic).
+pub type StatusObserver = Box<dyn Fn(&action_msgs::GoalStatusArray) + Send + Sync>;
 
 /// motion-suite patch: the results of ended goals (kept for `timeout` after the
 /// goal ended, as rcl_action's `result_timeout`) and the result requests of
@@ -313,7 +320,15 @@ where
         waiting: BTreeMap::new(),
         timeout: DEFAULT_RESULT_TIMEOUT,
       }),
+      status_observer: Mutex::new(None),
     }
+  }
+
+  /// motion-suite patch: `observer` sees every status array this server
+  /// publishes, just before it is written (the status topic is otherwise
+  /// internal to the server).
+  pub fn set_status_observer(&self, observer: StatusObserver) {
+    *self.status_observer.lock().unwrap() = Some(observer);
   }
 
   /// How long the result of an ended goal is kept for a client that has not
@@ -916,6 +931,9 @@ where
         .iter()
         .map(|gs| gs.goal_info.goal_id)
     );
+    if let Some(observe) = self.status_observer.lock().unwrap().as_ref() {
+      observe(&goal_status_array);
+    }
     self
       .actionserver
       .send_goal_statuses(goal_status_array)
