@@ -20,17 +20,7 @@ pub struct Topic {
 /// True when the npm packages are installed; otherwise the caller skips, unless
 /// `MOTION_REQUIRE_BROWSER=1` (the test command), which makes it a failure.
 pub fn ready() -> bool {
-    let ok = crate::workspace()
-        .join("tests/web/node_modules/@foxglove/rosmsg2-serialization")
-        .exists();
-    if !ok {
-        assert!(
-            std::env::var("MOTION_REQUIRE_BROWSER").as_deref() != Ok("1"),
-            "tests/web/node_modules incomplete: run scripts/browser-setup.sh"
-        );
-        eprintln!("skipped: tests/web/node_modules missing (scripts/browser-setup.sh)");
-    }
-    ok
+    crate::web_tools_ready(&["@foxglove/rosmsg2-serialization"], false)
 }
 
 /// Runs the decoder with `args` (`mcap FILE` or `live URL SECONDS`); panics when a schema

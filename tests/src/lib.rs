@@ -306,3 +306,20 @@ where
     }
     panic!("{what}: no answer to 3 goal requests");
 }
+
+/// True when `tests/web`'s npm `packages` (and with `chromium` Debian's `/usr/bin/chromium`)
+/// are installed (scripts/browser-setup.sh). Otherwise the caller skips with a message, unless
+/// `MOTION_REQUIRE_BROWSER=1` (the test command), which makes it a failure.
+pub fn web_tools_ready(packages: &[&str], chromium: bool) -> bool {
+    let modules = workspace().join("tests/web/node_modules");
+    let ok = packages.iter().all(|p| modules.join(p).exists())
+        && (!chromium || std::path::Path::new("/usr/bin/chromium").exists());
+    if !ok {
+        assert!(
+            std::env::var("MOTION_REQUIRE_BROWSER").as_deref() != Ok("1"),
+            "{packages:?} (chromium: {chromium}) missing: run scripts/browser-setup.sh"
+        );
+        eprintln!("skipped: {packages:?} (chromium: {chromium}) missing: scripts/browser-setup.sh");
+    }
+    ok
+}

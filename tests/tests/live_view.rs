@@ -14,25 +14,10 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 use system_tests::{launcher_bin, moving_demo, require_netns, unique_domain, workspace};
 
-fn browser_ready() -> bool {
-    let ok = std::path::Path::new("/usr/bin/chromium").exists()
-        && workspace()
-            .join("tests/web/node_modules/playwright-core")
-            .exists();
-    if !ok {
-        assert!(
-            std::env::var("MOTION_REQUIRE_BROWSER").as_deref() != Ok("1"),
-            "chromium or playwright-core missing: run scripts/browser-setup.sh"
-        );
-        eprintln!("skipped: chromium or tests/web/node_modules missing (scripts/browser-setup.sh)");
-    }
-    ok
-}
-
 #[test]
 fn the_page_shows_the_moving_demo_in_a_real_browser() {
     require_netns();
-    if !browser_ready() {
+    if !system_tests::web_tools_ready(&["playwright-core"], true) {
         return;
     }
     let dir = std::env::temp_dir().join(format!("live_view_{}", std::process::id()));
