@@ -389,6 +389,91 @@ fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
     assert_eq!(first, 0, "first stamp");
 }
 
+/// `--record-topics` (config key `record_topics`) records only the topics named, every cycle
+/// of them; the others are not even built in such a run. Names must be absolute.
+#[test]
+fn record_topics_take_only_the_topics_named() {
+    require_netns();
+    let dir = scratch_dir("motion_record_topics");
+    let file = dir.join("some.mcap");
+    let config = dir.join("ten_axes.yaml");
+    let axes: Vec<String> = (0..10).map(|i| format!("a{i}: {{}}")).collect();
+    std::fs::write(
+        &config,
+        format!(
+            "nodes:\n  - kind: axis_node\n    lockstep: true\n    axes: {{{}}}\n",
+            axes.join(", ")
+        ),
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        Command::new(launcher_bin())
+            .arg(&config)
+            .args(args)
+            .env("ROS_DOMAIN_ID", unique_domain().to_string())
+            .env("RUST_LOG", "warn")
+            .output()
+            .expect("motion_launch")
+    };
+    let f = file.to_string_lossy().to_string();
+    let out = run(&[
+        "--cycles",
+        "500",
+        "--record",
+        &f,
+        "--record-topics",
+        "/joint_states,/axis_node/axes/a3/state",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (args, needle) in [
+        (
+            vec!["--check", "--record-topics", "joint_states"],
+            "'joint_states' is not an absolute topic name",
+        ),
+        (
+            vec!["--check", "--record-topics"],
+            "--record-topics needs topic names",
+        ),
+    ] {
+        let bad = run(&args);
+        let log = String::from_utf8_lossy(&bad.stderr);
+        assert_eq!(bad.status.code(), Some(2), "{args:?}: {log}");
+        assert!(log.contains(needle), "{args:?}: {log}");
+    }
+    std::fs::write(
+        dir.join("key.yaml"),
+        "record_topics: []\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
+    )
+    .unwrap();
+    let bad = Command::new(launcher_bin())
+        .arg(dir.join("key.yaml"))
+        .arg("--check")
+        .output()
+        .expect("motion_launch");
+    let log = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("record_topics: expected at least one topic"),
+        "{log}"
+    );
+    let got = read_back(&file);
+    let _ = std::fs::remove_dir_all(&dir);
+    let Some(got) = got else { return };
+    let topics: Vec<&str> = got.lines().filter(|l| l.starts_with('/')).collect();
+    assert_eq!(
+        topics,
+        [
+            "/axis_node/axes/a3/state motion_msgs/msg/AxisState 501",
+            "/joint_states sensor_msgs/msg/JointState 501",
+        ],
+        "{got}"
+    );
+}
+
 /// `--cycles` needs lockstep nodes: a real-time node is a configuration error (exit 2).
 #[test]
 fn cycles_refuse_real_time_nodes() {
@@ -438,10 +523,10 @@ print("max x", last.get("x"), "last m2", last.get("m2"))
 /// Item 4 of issue 14: a lockstep run with a command script (the demo machine moving by
 /// itself) recorded twice gives the same messages, bit for bit (stamps included), on every
 /// channel but those paced by the wall clock: `/diagnostics` and `~/cycle_stats` (measured
-/// execution times, 1 Hz), `/clock` (published at a wall-clock rate) and `/rosout` (stamped
-/// with the system time, as rcl does; at this log level empty anyway). The axis node's
-/// `~/events` (the script's acknowledgements, plcopen_platform.md §12.1) is among the equal
-/// ones: in a stream its events follow the cycles, not the wall clock.
+/// execution times, 1 Hz) and `/rosout` (stamped with the system time, as rcl does; at this
+/// log level empty anyway). The axis node's `~/events` (the script's acknowledgements,
+/// plcopen_platform.md §12.1) and `/clock` are among the equal ones: in a stream they follow
+/// the cycles, not the wall clock.
 #[test]
 fn a_scripted_lockstep_run_replays_bit_identically() {
     require_netns();
@@ -473,7 +558,7 @@ fn a_scripted_lockstep_run_replays_bit_identically() {
     let strip = |d: &str| -> Vec<String> {
         d.lines()
             .filter(|l| {
-                !["/diagnostics ", "/clock ", "/rosout "]
+                !["/diagnostics ", "/rosout "]
                     .iter()
                     .any(|t| l.starts_with(t))
                     && !l.split(' ').next().unwrap_or("").ends_with("/cycle_stats")

@@ -315,6 +315,7 @@ impl<E: Engine> Controller<E> {
             held: None,
             stream: stream_tx,
             stream_events: Vec::new(),
+            stream_buffer: Vec::new(),
             script: VecDeque::new(),
             open: Default::default(),
             busy: busy.clone(),
@@ -628,6 +629,8 @@ struct CycleThread<E: Engine> {
     stream: Option<tmpsc::Sender<Arc<StreamItem<E::Snapshot>>>>,
     /// Stream mode: the command events since the last streamed snapshot, with their labels.
     stream_events: Vec<(TimedEvent, CommandLabel)>,
+    /// Stream items not handed over yet (see `flush_stream`).
+    stream_buffer: Vec<Arc<StreamItem<E::Snapshot>>>,
     /// The command script's steps still to run: (cycle, command), in running order.
     script: VecDeque<ScriptedCommand<E::Command>>,
     /// Accepted commands that have not ended yet.
@@ -736,6 +739,7 @@ impl<E: Engine> CycleThread<E> {
         let mut pending: Steps = VecDeque::new();
         while !self.stop.load(Ordering::Relaxed) && !crate::failsafe::triggered() {
             if pending.is_empty() && !self.free_run {
+                self.flush_stream();
                 self.wake.wait();
                 self.drain_control(&mut pending);
                 self.admit_between_steps();
@@ -755,6 +759,7 @@ impl<E: Engine> CycleThread<E> {
                     front.0 -= 1;
                     if front.0 == 0 {
                         self.snapshot_current();
+                        self.flush_stream();
                         // The statistics of a finished step count every cycle of it.
                         self.publish_stats();
                         if let Some((_, reply)) = pending.pop_front() {
@@ -769,6 +774,7 @@ impl<E: Engine> CycleThread<E> {
             }
             self.serve_queries(|| true);
         }
+        self.flush_stream();
     }
 
     /// Lockstep, between steps: commands and cancels are admitted at once (accepted with
@@ -877,34 +883,45 @@ impl<E: Engine> CycleThread<E> {
             return;
         }
         self.snapshot_current();
-        let snap = Arc::new(StreamItem {
+        self.stream_buffer.push(Arc::new(StreamItem {
             state: self.snap_tx.borrow().clone(),
             events: std::mem::take(&mut self.stream_events),
-        });
-        let Some(tx) = self.stream.as_ref() else {
-            return;
-        };
-        let sent = match tx.try_send(snap) {
-            Ok(()) => Ok(()),
-            Err(tmpsc::error::TrySendError::Full(snap)) => {
-                // Full: wait until half of it is free, not just one place, so that the cycle
-                // and the reader take turns once per half stream, not once per snapshot.
-                match futures::executor::block_on(tx.reserve_many(STREAM_CAPACITY / 2)) {
-                    Ok(mut room) => match room.next() {
-                        Some(permit) => {
-                            permit.send(snap);
-                            Ok(())
-                        }
-                        None => Err(()),
-                    },
-                    Err(_) => Err(()),
+        }));
+        if self.stream_buffer.len() >= STREAM_CAPACITY / 2 {
+            self.flush_stream();
+        }
+    }
+
+    /// Hands the buffered stream items over in one burst (a reader that had caught up is
+    /// woken once per burst, not once per cycle), waiting while the stream is full. Runs at
+    /// every half stream, before a step is answered and before the cycle idles.
+    fn flush_stream(&mut self) {
+        for item in std::mem::take(&mut self.stream_buffer) {
+            let Some(tx) = self.stream.as_ref() else {
+                return;
+            };
+            let sent = match tx.try_send(item) {
+                Ok(()) => Ok(()),
+                Err(tmpsc::error::TrySendError::Full(item)) => {
+                    // Full: wait until half of it is free, not just one place, so that a
+                    // slower reader and the cycle take turns once per half stream.
+                    match futures::executor::block_on(tx.reserve_many(STREAM_CAPACITY / 2)) {
+                        Ok(mut room) => match room.next() {
+                            Some(permit) => {
+                                permit.send(item);
+                                Ok(())
+                            }
+                            None => Err(()),
+                        },
+                        Err(_) => Err(()),
+                    }
                 }
+                Err(tmpsc::error::TrySendError::Closed(_)) => Err(()),
+            };
+            if sent.is_err() {
+                // Nobody reads the stream any more (the node is stopping).
+                self.stream = None;
             }
-            Err(tmpsc::error::TrySendError::Closed(_)) => Err(()),
-        };
-        if sent.is_err() {
-            // Nobody reads the stream any more (the node is stopping).
-            self.stream = None;
         }
     }
 

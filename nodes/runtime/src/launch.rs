@@ -135,6 +135,8 @@ pub fn load_with(
 struct LaunchKeys {
     /// `record: FILE.mcap`: record every published message of every node.
     record: Option<String>,
+    /// `record_topics: [/a, /b]`: record only these topics (absolute names).
+    record_topics: Option<Vec<String>>,
     /// `live: true | false | {host, port, page_port}`: the live feed and page.
     live: Option<crate::live::LiveSettings>,
 }
@@ -195,11 +197,12 @@ fn parse_launch(
                     message: "expected a file name (e.g. run.mcap)".into(),
                 })
             }
-            Some("live") => {}
+            Some("live") | Some("record_topics") => {}
             _ => {
                 return Err(ConfigError {
                     location: format!("{file}: {}", k.as_str().unwrap_or("?")),
-                    message: "unknown key (expected 'nodes' and optionally 'record', 'live')"
+                    message: "unknown key (expected 'nodes' and optionally 'record', \
+                              'record_topics', 'live')"
                         .into(),
                 })
             }
@@ -273,7 +276,39 @@ fn parse_launch(
             message: format!("{e} (expected true, false or {{host, port, page_port}})"),
         })?),
     };
-    Ok((out, LaunchKeys { record, live }))
+    let record_topics = match map.get("record_topics") {
+        None => None,
+        Some(v) => Some(
+            serde_yaml::from_value::<Vec<String>>(v.clone())
+                .map_err(|e| e.to_string())
+                .and_then(record_topics)
+                .map_err(|message| ConfigError {
+                    location: format!("{file}: record_topics"),
+                    message,
+                })?,
+        ),
+    };
+    Ok((
+        out,
+        LaunchKeys {
+            record,
+            record_topics,
+            live,
+        },
+    ))
+}
+
+/// The topics of `record_topics` / `--record-topics`: absolute ROS names, at least one.
+fn record_topics(topics: Vec<String>) -> Result<Vec<String>, String> {
+    if topics.is_empty() {
+        return Err("expected at least one topic (e.g. [/joint_states])".into());
+    }
+    match topics.iter().find(|t| !t.starts_with('/') || t.len() < 2) {
+        Some(t) => Err(format!(
+            "'{t}' is not an absolute topic name (e.g. /joint_states, /axis_node/axis_states)"
+        )),
+        None => Ok(topics),
+    }
 }
 
 /// Command line of the launcher and of each node binary.
@@ -287,6 +322,8 @@ pub struct Args {
     pub check: bool,
     /// `--record FILE`: record every published message of every node to an MCAP file.
     pub record: Option<String>,
+    /// `--record-topics /a,/b`: record only these topics.
+    pub record_topics: Option<Vec<String>>,
     /// `--cycles N`: run N cycles of every (lockstep) node as fast as they go, then stop;
     /// no client needs to step them over DDS.
     pub cycles: Option<u64>,
@@ -341,6 +378,14 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                     .ok_or("--record needs a file name (e.g. run.mcap)")?;
                 a.record = Some(v);
             }
+            "--record-topics" => {
+                let v = it
+                    .next()
+                    .ok_or("--record-topics needs topic names (e.g. /joint_states,/clock)")?;
+                let topics = v.split(',').map(|t| t.trim().to_string()).collect();
+                a.record_topics =
+                    Some(record_topics(topics).map_err(|e| format!("--record-topics: {e}"))?);
+            }
             "-h" | "--help" => return Err(usage.to_string()),
             s if s.starts_with('-') => return Err(format!("unknown option {s}\n{usage}")),
             s => {
@@ -361,7 +406,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap [--record-topics /A,/B]] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -404,6 +449,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         }
     };
     let record = args.record.clone().or(keys.record);
+    let record_topics = args.record_topics.clone().or(keys.record_topics);
     let live = match (args.live, keys.live) {
         (Some(None), _) | (None, None) => None,
         (Some(Some(port)), cfg) => Some(crate::live::LiveSettings {
@@ -414,7 +460,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         (None, Some(cfg)) => cfg.enabled.then_some(cfg),
     };
     if let (Some(file), false) = (&record, args.check) {
-        if let Err(e) = crate::record::start(Path::new(file)) {
+        if let Err(e) = crate::record::start(Path::new(file), record_topics) {
             eprintln!("{program}: cannot record to {file}: {e}");
             return 2;
         }

@@ -149,6 +149,8 @@ impl Recording {
 struct Recorder {
     tx: std::sync::mpsc::SyncSender<Entry>,
     dropped: std::sync::atomic::AtomicU64,
+    /// Only these topics (`--record-topics`); None: every topic.
+    topics: Option<std::collections::HashSet<String>>,
 }
 
 enum Entry {
@@ -177,13 +179,15 @@ pub fn set_record_only(on: bool) {
 /// Messages the writer thread may hold before publishers drop instead of waiting.
 const QUEUE: usize = 65_536;
 
-/// Starts recording every published message of this process to `path` (once per process).
-pub fn start(path: &Path) -> Result<(), RecordError> {
+/// Starts recording every published message of this process to `path` (once per process),
+/// or with `topics` only those of these topics (absolute names).
+pub fn start(path: &Path, topics: Option<Vec<String>>) -> Result<(), RecordError> {
     let mut rec = Recording::create(path)?;
     let (tx, rx) = std::sync::mpsc::sync_channel::<Entry>(QUEUE);
     let recorder = Recorder {
         tx,
         dropped: std::sync::atomic::AtomicU64::new(0),
+        topics: topics.map(|t| t.into_iter().collect()),
     };
     if RECORDER.set(recorder).is_err() {
         return Err(RecordError::Io(std::io::Error::other(
@@ -245,9 +249,11 @@ pub fn start(path: &Path) -> Result<(), RecordError> {
     Ok(())
 }
 
-/// True while this process records.
-fn recording() -> bool {
-    RECORDER.get().is_some()
+/// True while this process records `topic`.
+fn recording(topic: &str) -> bool {
+    RECORDER
+        .get()
+        .is_some_and(|r| r.topics.as_ref().is_none_or(|t| t.contains(topic)))
 }
 
 /// Hands an already serialized message to the recording. Never blocks.
@@ -306,6 +312,8 @@ pub struct RecordedTopic {
     /// Length of the last serialized message (the next one is likely as long).
     size: std::sync::atomic::AtomicUsize,
     live: std::sync::OnceLock<Option<std::sync::Arc<foxglove::RawChannel>>>,
+    /// Whether the recording takes this topic (decided at the first message).
+    recorded: std::sync::OnceLock<bool>,
 }
 
 impl RecordedTopic {
@@ -316,19 +324,35 @@ impl RecordedTopic {
             ros_type: ros_type.into(),
             size: std::sync::atomic::AtomicUsize::new(0),
             live: std::sync::OnceLock::new(),
+            recorded: std::sync::OnceLock::new(),
         }
+    }
+
+    /// True when the recording takes this topic.
+    fn recorded(&self) -> bool {
+        *self.recorded.get_or_init(|| recording(&self.topic))
+    }
+
+    /// The live feed's channel of this topic while a client subscribes to it.
+    fn live_sink(&self) -> Option<&std::sync::Arc<foxglove::RawChannel>> {
+        self.live
+            .get_or_init(|| crate::live::channel(&self.topic, &self.ros_type))
+            .as_ref()
+            .filter(|c| c.has_sinks())
+    }
+
+    /// True when a message of this topic would go anywhere (recording or live feed).
+    pub fn taken(&self) -> bool {
+        self.recorded() || self.live_sink().is_some()
     }
 
     /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
     /// feed (if a client subscribed to the topic). Never waits; serializes only when someone
     /// takes the message.
     pub fn take<M: serde::Serialize>(&self, msg: &M, stamp_ns: i64) {
-        let live = self
-            .live
-            .get_or_init(|| crate::live::channel(&self.topic, &self.ros_type))
-            .as_ref()
-            .filter(|c| c.has_sinks());
-        if !recording() && live.is_none() {
+        let live = self.live_sink();
+        let recorded = self.recorded();
+        if !recorded && live.is_none() {
             return;
         }
         let size = self.size.load(std::sync::atomic::Ordering::Relaxed);
@@ -341,7 +365,9 @@ impl RecordedTopic {
         if let Some(c) = live {
             c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
         }
-        record_serialized(&self.topic, &self.ros_type, stamp, data);
+        if recorded {
+            record_serialized(&self.topic, &self.ros_type, stamp, data);
+        }
     }
 }
 
@@ -380,6 +406,12 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
             return None;
         }
         Some(msg)
+    }
+
+    /// True when a message would go anywhere: DDS, the recording or the live feed (a state
+    /// topic builds none otherwise).
+    pub fn wanted(&self) -> bool {
+        !RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) || self.topic.taken()
     }
 
     /// The second half of [`RecordedPublisher::publish`]: writes `msg` to DDS.

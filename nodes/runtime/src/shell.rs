@@ -231,6 +231,35 @@ pub type StreamWork = std::pin::Pin<Box<dyn Future<Output = ()> + Send>>;
 type StreamReader<E> =
     Box<dyn FnMut(&crate::cycle::StreamItem<<E as Engine>::Snapshot>) -> StreamWork + Send>;
 
+/// A topic published from the state stream: `build` makes its message of each streamed
+/// snapshot, which is recorded at once; the returned work writes it to DDS.
+fn stream_topic<E, M>(
+    publisher: RecordedPublisher<M>,
+    build: impl Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
+) -> StreamReader<E>
+where
+    E: Engine,
+    M: serde::Serialize + motion_msgs::RosType + fmt::Debug + Send + Sync + 'static,
+{
+    let publisher = Arc::new(publisher);
+    Box::new(move |item| {
+        if !publisher.wanted() {
+            // A run that records other topics only: not even built.
+            return Box::pin(std::future::ready(()));
+        }
+        let publisher = publisher.clone();
+        let snap = &item.state;
+        let publish = publisher.record(build(snap), snap.ros_time_ns);
+        Box::pin(async move {
+            if let Some(msg) = publish {
+                if let Err(e) = publisher.publish_dds(msg).await {
+                    tracing::warn!("{} publish failed: {e:?}", M::ROS_TYPE_NAME);
+                }
+            }
+        })
+    })
+}
+
 /// The node's ROS time now [ns]: the system clock in real time, the time of the last cycle in
 /// simulated time (for messages that no cycle stamps: `/rosout`, an action's status).
 pub fn ros_now<E: Engine>(handle: &ControllerHandle<E>) -> crate::logging::RosNow {
@@ -432,7 +461,6 @@ where
         }));
         self.spawn_command_status(events)?;
         self.spawn_diagnostics()?;
-        self.spawn_state_stream();
         if std::env::var("MOTION_FAULT_HOOKS").as_deref() == Ok("1") {
             self.spawn_fault_hook()?;
         }
@@ -442,6 +470,8 @@ where
             self.spawn_clock()?;
             self.spawn_step_service()?;
         }
+        // Last: `/clock` is one of the stream's readers.
+        self.spawn_state_stream();
         Ok(())
     }
 
@@ -633,6 +663,14 @@ where
             .create_publisher::<Clock>(&topic, None)
             .map_err(err("publisher"))?;
         let publisher = RecordedPublisher::new(publisher, "/clock");
+        if self.settings.state_stream {
+            // Every streamed cycle's time, in the stream's order (no wake-up per snapshot).
+            self.streams
+                .push(stream_topic::<E, _>(publisher, |snap| Clock {
+                    clock: stamp_ns(snap.ros_time_ns),
+                }));
+            return Ok(());
+        }
         let mut snaps = self.handle.snapshots();
         self.tasks.spawn(async move {
             while snaps.changed().await.is_ok() {
@@ -1062,19 +1100,7 @@ where
         let publisher = RecordedPublisher::new(publisher, name);
         if self.settings.state_stream {
             // Every streamed cycle, in order (see `spawn_state_stream`).
-            let publisher = Arc::new(publisher);
-            self.streams.push(Box::new(move |item| {
-                let publisher = publisher.clone();
-                let snap = &item.state;
-                let publish = publisher.record(build(snap), snap.ros_time_ns);
-                Box::pin(async move {
-                    if let Some(msg) = publish {
-                        if let Err(e) = publisher.publish_dds(msg).await {
-                            tracing::warn!("state publish failed: {e:?}");
-                        }
-                    }
-                })
-            }));
+            self.streams.push(stream_topic::<E, _>(publisher, build));
             return Ok(());
         }
         let handle = self.handle.clone();

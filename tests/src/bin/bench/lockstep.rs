@@ -155,7 +155,7 @@ fn floor(file: &std::path::Path, cycles: u64) -> (f64, f64, f64) {
 
 pub fn speed(cycles: u64) {
     let file = std::env::temp_dir().join(format!("bench_lockstep_{}.mcap", std::process::id()));
-    motion_runtime::record::start(&file).expect("recording");
+    motion_runtime::record::start(&file, None).expect("recording");
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
