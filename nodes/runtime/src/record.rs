@@ -145,7 +145,8 @@ impl Recording {
 
 /// The process's recording (`motion_launch --record FILE`): a writer thread that owns the
 /// [`Recording`], fed by every publisher of every node of the process through [`RecordedPublisher`].
-/// Publishers never wait for it: a message that finds the queue full is dropped and counted.
+/// Publishers never wait for it (a message that finds the queue full is dropped and counted),
+/// except in a `--cycles` run, which is lossless and waits.
 struct Recorder {
     tx: std::sync::mpsc::SyncSender<Entry>,
     dropped: std::sync::atomic::AtomicU64,
@@ -272,7 +273,14 @@ fn record_serialized(
         stamp_ns,
         data,
     };
-    if r.tx.try_send(entry).is_err() {
+    // A `--cycles` run (record only) is lossless: it waits for the writer, as its cycles
+    // wait for the stream. Otherwise a publisher never waits: a full queue drops, counted.
+    let sent = if RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
+        r.tx.send(entry).map_err(|_| ())
+    } else {
+        r.tx.try_send(entry).map_err(|_| ())
+    };
+    if sent.is_err() {
         r.dropped.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     }
 }
