@@ -67,6 +67,21 @@ fn python() -> Option<String> {
     })
 }
 
+/// `dir/ten_axes.yaml`: one lockstep axis node with axes a0 … a9 and the entry lines `extra`.
+fn ten_axes_config(dir: &std::path::Path, extra: &str) -> std::path::PathBuf {
+    let config = dir.join("ten_axes.yaml");
+    let axes: Vec<String> = (0..10).map(|i| format!("a{i}: {{}}")).collect();
+    std::fs::write(
+        &config,
+        format!(
+            "nodes:\n  - kind: axis_node\n    lockstep: true\n{extra}    axes: {{{}}}\n",
+            axes.join(", ")
+        ),
+    )
+    .unwrap();
+    config
+}
+
 /// A fresh directory for this test process's files (`name` + pid under the temp dir).
 fn scratch_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("{name}_{}", std::process::id()));
@@ -347,16 +362,7 @@ fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
     require_netns();
     let dir = scratch_dir("motion_recording_cycles");
     let file = dir.join("cycles.mcap");
-    let config = dir.join("ten_axes.yaml");
-    let axes: Vec<String> = (0..10).map(|i| format!("a{i}: {{}}")).collect();
-    std::fs::write(
-        &config,
-        format!(
-            "nodes:\n  - kind: axis_node\n    lockstep: true\n    state_rate: 10\n    axes: {{{}}}\n",
-            axes.join(", ")
-        ),
-    )
-    .unwrap();
+    let config = ten_axes_config(&dir, "    state_rate: 10\n");
     let n = 3000;
     let out = Command::new(launcher_bin())
         .arg(&config)
@@ -396,16 +402,7 @@ fn record_topics_take_only_the_topics_named() {
     require_netns();
     let dir = scratch_dir("motion_record_topics");
     let file = dir.join("some.mcap");
-    let config = dir.join("ten_axes.yaml");
-    let axes: Vec<String> = (0..10).map(|i| format!("a{i}: {{}}")).collect();
-    std::fs::write(
-        &config,
-        format!(
-            "nodes:\n  - kind: axis_node\n    lockstep: true\n    axes: {{{}}}\n",
-            axes.join(", ")
-        ),
-    )
-    .unwrap();
+    let config = ten_axes_config(&dir, "");
     let run = |args: &[&str]| {
         Command::new(launcher_bin())
             .arg(&config)

@@ -355,8 +355,8 @@ impl RecordedTopic {
     }
 
     /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
-    /// feed (if a client subscribed to the topic). Never waits; serializes only when someone
-    /// takes the message.
+    /// feed (if a client subscribed to the topic); serializes only when someone takes the
+    /// message. Never waits, except for the writer in a `--cycles` run (lossless).
     pub fn take<M: serde::Serialize>(&self, msg: &M, stamp_ns: i64) {
         let live = self.live_sink();
         let recorded = self.recorded();
