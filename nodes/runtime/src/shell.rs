@@ -501,20 +501,16 @@ where
         });
     }
 
-    /// Stream mode (lockstep with a state stream): `read` gets every item of the stream (each
-    /// snapshot with the command events before it) after the state topics, in the stream's
-    /// task; the future it returns is awaited before the next item (the stream, and so the
-    /// lockstep cycle, waits for it), and [`NodeShell::states_flushed`] covers it. Returns
-    /// false (and drops `read`) in other modes. Call before the node starts.
+    /// Stream mode (lockstep with a state stream, `settings.state_stream`): `read` gets every
+    /// item of the stream (each snapshot with the command events before it) after the state
+    /// topics, in the stream's task; the future it returns is awaited before the next item (the
+    /// stream, and so the lockstep cycle, waits for it), and [`NodeShell::states_flushed`]
+    /// covers it. Without a stream `read` is never called. Call before the node starts.
     pub fn stream_reader(
         &mut self,
         read: impl FnMut(&crate::cycle::StreamItem<E::Snapshot>) -> StreamWork + Send + 'static,
-    ) -> bool {
-        if !self.settings.state_stream {
-            return false;
-        }
+    ) {
         self.streams.push(Box::new(read));
-        true
     }
 
     /// A copy of every command event, with its label and the ROS time of its cycle [ns], in
