@@ -1,5 +1,9 @@
 //! `pickplace_node [CONFIG.yaml]`: runs the pickplace_node entries of a launch config.
 
+/// See [`motion_runtime::rt::Allocator`].
+#[global_allocator]
+static ALLOCATOR: motion_runtime::rt::Allocator = motion_runtime::rt::Allocator;
+
 fn main() {
     std::process::exit(motion_runtime::launch::main_with(
         "pickplace_node",

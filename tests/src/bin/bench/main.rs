@@ -27,6 +27,10 @@
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
 //!   the time-optimal duration of the PyPI `ruckig` package; limits checked at 1 ms samples.
 
+/// See [`motion_runtime::rt::Allocator`].
+#[global_allocator]
+static ALLOCATOR: motion_runtime::rt::Allocator = motion_runtime::rt::Allocator;
+
 use motion_core::{CmdId, CommandEvent, Engine, Rejection, Tick};
 use motion_msgs::srv::{Reset, ResetRequest, ResetResponse};
 use motion_runtime::host::CommonConfig;
