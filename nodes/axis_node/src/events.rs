@@ -273,7 +273,9 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
             for (timed, label) in &item.events {
                 events.acknowledge(&timed.event, label, timed.ros_time_ns, &mut batch);
             }
-            if let Some(p) = &prev {
+            // Compared only while someone takes `~/events` (a `--cycles` run that records
+            // other topics has no one); the previous snapshot is kept either way.
+            if let Some(p) = prev.as_ref().filter(|_| events.publisher.wanted()) {
                 let changes = diff(&p.state, &item.state.state);
                 events.number(changes, stamp(&item.state), &mut batch);
             }

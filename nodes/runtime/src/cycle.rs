@@ -174,7 +174,7 @@ pub struct StreamItem<S> {
 }
 
 /// Snapshots in flight on the state stream before the cycle waits.
-const STREAM_CAPACITY: usize = 64;
+pub(crate) const STREAM_CAPACITY: usize = 64;
 
 impl<E: Engine> Clone for ControllerHandle<E> {
     fn clone(&self) -> Self {

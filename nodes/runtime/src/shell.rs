@@ -492,11 +492,18 @@ where
         };
         let mut readers = std::mem::take(&mut self.streams);
         self.tasks.spawn(async move {
-            while let Some(item) = rx.recv().await {
-                for read in &mut readers {
-                    read(&item).await;
+            // The cycle hands items over in bursts; `done` is told once per burst (it wakes
+            // whoever waits in `states_flushed`), not once per item.
+            let mut items = Vec::with_capacity(crate::cycle::STREAM_CAPACITY);
+            while rx.recv_many(&mut items, crate::cycle::STREAM_CAPACITY).await > 0 {
+                let mut published = 0;
+                for item in items.drain(..) {
+                    for read in &mut readers {
+                        read(&item).await;
+                    }
+                    published = item.state.cycle + 1;
                 }
-                done.send_replace(item.state.cycle + 1);
+                done.send_replace(published);
             }
         });
     }
