@@ -19,9 +19,9 @@
 //! - pickplace: cell step mean and p99.9 (2 belts × 30 workpieces, blended ellipse) against the
 //!   manual's module; cycles from an execute edge to the first moving set point.
 //! - lockstep: the axis node with 10 moving axes in lockstep, every cycle published and
-//!   recorded, as a ratio of simulated to wall time, against the bare engine and against the
-//!   recording's floor (the same bytes written again by the MCAP writer alone, and to a plain
-//!   file) (netns-run).
+//!   recorded, as a ratio of simulated to wall time, against the bare engine, the node with
+//!   nothing recorded, and the recording's floor (the same bytes written again by the MCAP
+//!   writer alone, and to a plain file) (netns-run).
 //! - live: cycle execution p99 of the axis node (10 moving axes, real time) serving the live
 //!   feed, without a client and with a client reading every channel (netns-run).
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
