@@ -256,9 +256,12 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
         .node
         .create_publisher::<AxisEvent>(&topic, Some(events_qos()))
         .map_err(err("publisher"))?;
-    let publisher = std::sync::Arc::new(motion_runtime::record::RecordedPublisher::new(
-        publisher, name,
-    ));
+    let mut publisher = motion_runtime::record::RecordedPublisher::new(publisher, name);
+    if shell.settings.state_stream {
+        // Read off the state stream: every cycle's events are recorded.
+        publisher = publisher.lossless();
+    }
+    let publisher = std::sync::Arc::new(publisher);
     let mut events = Numbered {
         publisher,
         seq: 0,

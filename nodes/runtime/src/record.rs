@@ -7,7 +7,8 @@
 //! [`Recording`] is the writer; it knows nothing of nodes or cycles. Chunks are not compressed
 //! (no C library needed); a recording is finished (summary and index written) by
 //! [`Recording::finish`], and a file whose writer was dropped without it is still readable
-//! message by message.
+//! message by message. It may also go into a FIFO (read by another tool as the run goes), which
+//! cannot seek: each chunk is then kept in memory until it is whole.
 
 use ros2_client::dds::rustdds::serialization::to_writer_with_rep_id;
 use ros2_client::dds::rustdds::RepresentationIdentifier;
@@ -53,9 +54,40 @@ pub enum RecordError {
     },
 }
 
+/// Where a recording goes: a file, or a pipe that cannot seek, for which the position the MCAP
+/// writer asks for is counted here (it never seeks elsewhere when told not to).
+struct Sink {
+    out: BufWriter<File>,
+    position: u64,
+    seekable: bool,
+}
+
+impl std::io::Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.out.write(buf)?;
+        self.position += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
+impl std::io::Seek for Sink {
+    fn seek(&mut self, to: std::io::SeekFrom) -> std::io::Result<u64> {
+        if self.seekable {
+            self.position = self.out.seek(to)?;
+        } else if to != std::io::SeekFrom::Current(0) {
+            return Err(std::io::Error::other("a recording into a pipe cannot seek"));
+        }
+        Ok(self.position)
+    }
+}
+
 /// An MCAP file being written (see the module docs).
 pub struct Recording {
-    writer: mcap::Writer<BufWriter<File>>,
+    writer: mcap::Writer<Sink>,
     /// Topic → (channel id, type name, next sequence number).
     channels: HashMap<String, (u16, String, u32)>,
 }
@@ -63,12 +95,19 @@ pub struct Recording {
 impl Recording {
     /// Creates (truncates) the file at `path`, with the MCAP header of the `ros2` profile.
     pub fn create(path: &Path) -> Result<Self, RecordError> {
-        let file = BufWriter::new(File::create(path)?);
+        let file = File::create(path)?;
+        let seekable = file.metadata()?.is_file();
+        let sink = Sink {
+            out: BufWriter::new(file),
+            position: 0,
+            seekable,
+        };
         let writer = mcap::WriteOptions::new()
             .profile("ros2")
             .library(concat!("motion_runtime ", env!("CARGO_PKG_VERSION")))
             .compression(None)
-            .create(file)?;
+            .disable_seeking(!seekable)
+            .create(sink)?;
         Ok(Recording {
             writer,
             channels: HashMap::new(),
@@ -146,7 +185,8 @@ impl Recording {
 /// The process's recording (`motion_launch --record FILE`): a writer thread that owns the
 /// [`Recording`], fed by every publisher of every node of the process through [`RecordedPublisher`].
 /// Publishers never wait for it (a message that finds the queue full is dropped and counted),
-/// except in a `--cycles` run, which is lossless and waits.
+/// except the state topics of lockstep nodes ([`RecordedPublisher::lossless`]) and every
+/// publisher in a `--cycles` run: those wait.
 struct Recorder {
     tx: std::sync::mpsc::SyncSender<Entry>,
     dropped: std::sync::atomic::AtomicU64,
@@ -257,12 +297,14 @@ fn recording(topic: &str) -> bool {
         .is_some_and(|r| r.topics.as_ref().is_none_or(|t| t.contains(topic)))
 }
 
-/// Hands an already serialized message to the recording. Never blocks.
+/// Hands an already serialized message to the recording; waits for room only when `lossless`
+/// or in a `--cycles` run.
 fn record_serialized(
     topic: &std::sync::Arc<str>,
     ros_type: &std::sync::Arc<str>,
     stamp_ns: u64,
     data: Vec<u8>,
+    lossless: bool,
 ) {
     let Some(r) = RECORDER.get() else {
         return;
@@ -273,9 +315,10 @@ fn record_serialized(
         stamp_ns,
         data,
     };
-    // A `--cycles` run (record only) is lossless: it waits for the writer, as its cycles
-    // wait for the stream. Otherwise a publisher never waits: a full queue drops, counted.
-    let sent = if RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
+    // A lockstep state topic and a `--cycles` run (record only) are lossless: they wait for
+    // the writer, as simulated time waits for the stream. Otherwise a publisher never waits: a
+    // full queue drops, counted.
+    let sent = if lossless || RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
         r.tx.send(entry).map_err(|_| ())
     } else {
         r.tx.try_send(entry).map_err(|_| ())
@@ -322,6 +365,8 @@ pub struct RecordedTopic {
     live: std::sync::OnceLock<Option<std::sync::Arc<foxglove::RawChannel>>>,
     /// Whether the recording takes this topic (decided at the first message).
     recorded: std::sync::OnceLock<bool>,
+    /// Waits for the writer rather than dropping (see [`RecordedTopic::lossless`]).
+    lossless: bool,
 }
 
 impl RecordedTopic {
@@ -333,7 +378,17 @@ impl RecordedTopic {
             size: std::sync::atomic::AtomicUsize::new(0),
             live: std::sync::OnceLock::new(),
             recorded: std::sync::OnceLock::new(),
+            lossless: false,
         }
+    }
+
+    /// This topic records every message: it waits for the recording's writer instead of
+    /// dropping a message that finds its queue full. For the topics of a lockstep node's state
+    /// stream, where simulated time waits for its observers (every cycle's state is recorded,
+    /// also while a client steps the node over DDS); a real-time publisher must never wait.
+    pub fn lossless(mut self) -> Self {
+        self.lossless = true;
+        self
     }
 
     /// True when the recording takes this topic.
@@ -356,7 +411,7 @@ impl RecordedTopic {
 
     /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
     /// feed (if a client subscribed to the topic); serializes only when someone takes the
-    /// message. Never waits, except for the writer in a `--cycles` run (lossless).
+    /// message. Never waits, except for the writer when lossless or in a `--cycles` run.
     pub fn take<M: serde::Serialize>(&self, msg: &M, stamp_ns: i64) {
         let live = self.live_sink();
         let recorded = self.recorded();
@@ -374,7 +429,7 @@ impl RecordedTopic {
             c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
         }
         if recorded {
-            record_serialized(&self.topic, &self.ros_type, stamp, data);
+            record_serialized(&self.topic, &self.ros_type, stamp, data, self.lossless);
         }
     }
 }
@@ -397,6 +452,12 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
         }
     }
 
+    /// This publisher records every message (see [`RecordedTopic::lossless`]).
+    pub fn lossless(mut self) -> Self {
+        self.topic = self.topic.lossless();
+        self
+    }
+
     /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
     /// feed (if a client subscribed to the topic), then publishes it.
     pub async fn publish(&self, msg: M, stamp_ns: i64) -> ros2_client::error::WriteResult<(), M> {
@@ -406,8 +467,9 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
         }
     }
 
-    /// The first half of [`RecordedPublisher::publish`], which never waits: records `msg` and
-    /// logs it to the live feed; returns it when it is to be written to DDS too.
+    /// The first half of [`RecordedPublisher::publish`], which does not wait for DDS: records
+    /// `msg` (waiting for the writer only as [`RecordedTopic::take`] says) and logs it to the
+    /// live feed; returns it when it is to be written to DDS too.
     pub fn record(&self, msg: M, stamp_ns: i64) -> Option<M> {
         self.topic.take(&msg, stamp_ns);
         if RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {

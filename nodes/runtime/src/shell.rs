@@ -241,7 +241,8 @@ where
     E: Engine,
     M: serde::Serialize + motion_msgs::RosType + fmt::Debug + Send + Sync + 'static,
 {
-    let publisher = Arc::new(publisher);
+    // Every streamed cycle's message is recorded (the stream, and so the cycle, waits).
+    let publisher = Arc::new(publisher.lossless());
     Box::new(move |item| {
         if !publisher.wanted() {
             // A run that records other topics only: not even built.
@@ -495,7 +496,11 @@ where
             // The cycle hands items over in bursts; `done` is told once per burst (it wakes
             // whoever waits in `states_flushed`), not once per item.
             let mut items = Vec::with_capacity(crate::cycle::STREAM_CAPACITY);
-            while rx.recv_many(&mut items, crate::cycle::STREAM_CAPACITY).await > 0 {
+            while rx
+                .recv_many(&mut items, crate::cycle::STREAM_CAPACITY)
+                .await
+                > 0
+            {
                 let mut published = 0;
                 for item in items.drain(..) {
                     for read in &mut readers {

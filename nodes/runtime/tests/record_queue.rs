@@ -1,0 +1,90 @@
+//! The recording's queue (`motion_runtime::record`): while its writer is held up, a real-time
+//! topic drops what finds the queue full (counted) and never waits, while a lossless topic (a
+//! lockstep node's state stream) waits and loses nothing. The writer is held up by recording
+//! into a FIFO whose reader starts reading only after a while. Own test binary: a process
+//! records once.
+
+use motion_msgs::deps::builtin_interfaces::msg::Time;
+use motion_msgs::deps::rosgraph_msgs::msg::Clock;
+use motion_runtime::record::{self, RecordedTopic};
+use std::io::Read;
+use std::time::{Duration, Instant};
+
+fn clock(ns: i64) -> Clock {
+    Clock {
+        clock: Time {
+            sec: (ns / 1_000_000_000) as i32,
+            nanosec: (ns % 1_000_000_000) as u32,
+        },
+    }
+}
+
+#[test]
+fn a_lossless_topic_waits_for_the_writer_a_real_time_topic_drops() {
+    let dir = std::env::temp_dir().join(format!("record_queue_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("run.mcap");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0, "mkfifo");
+    // The reader opens the FIFO (so the writer's open returns), then reads nothing until
+    // `release`, so the writer blocks on the full pipe and the queue fills.
+    let hold = Duration::from_secs(3);
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || {
+            let mut f = std::fs::File::open(&fifo).unwrap();
+            std::thread::sleep(hold);
+            let mut bytes = Vec::new();
+            f.read_to_end(&mut bytes).unwrap();
+            bytes
+        })
+    };
+    record::start(&fifo, None).expect("recording");
+    let lossy = RecordedTopic::new("/lossy", "rosgraph_msgs/msg/Clock");
+    let lossless = RecordedTopic::new("/lossless", "rosgraph_msgs/msg/Clock").lossless();
+    // Far more than the queue (65 536) and the writer's chunk hold.
+    let n: i64 = 200_000;
+    let t0 = Instant::now();
+    for i in 0..n {
+        lossy.take(&clock(i), i);
+    }
+    let lossy_took = t0.elapsed();
+    assert!(
+        lossy_took < hold,
+        "the real-time topic waited for the writer ({lossy_took:?})"
+    );
+    for i in 0..n {
+        lossless.take(&clock(i), i);
+    }
+    assert!(
+        t0.elapsed() >= hold - Duration::from_millis(100),
+        "the lossless topic did not wait for the held-up writer"
+    );
+    let (written, dropped) = record::finish().expect("recording on").expect("closed");
+    let bytes = reader.join().unwrap();
+    let mut count = std::collections::HashMap::<String, i64>::new();
+    let mut last = -1;
+    for m in mcap::MessageStream::new(&bytes).expect("mcap") {
+        let m = m.expect("message");
+        if m.channel.topic == "/lossless" {
+            // Every message, in order.
+            assert_eq!(m.log_time as i64, last + 1);
+            last = m.log_time as i64;
+        }
+        *count.entry(m.channel.topic.clone()).or_default() += 1;
+    }
+    assert_eq!(
+        count.get("/lossless"),
+        Some(&n),
+        "lossless topic lost messages"
+    );
+    let lossy_n = count.get("/lossy").copied().unwrap_or(0);
+    assert!(dropped > 0, "nothing dropped: the writer was not held up");
+    assert_eq!(
+        lossy_n + dropped as i64,
+        n,
+        "every lossy message written or counted"
+    );
+    assert_eq!(written as i64, n + lossy_n);
+    let _ = std::fs::remove_dir_all(&dir);
+}
