@@ -893,35 +893,21 @@ impl<E: Engine> CycleThread<E> {
     }
 
     /// Hands the buffered stream items over in one burst (a reader that had caught up is
-    /// woken once per burst, not once per cycle), waiting while the stream is full. Runs at
-    /// every half stream, before a step is answered and before the cycle idles.
+    /// woken once per burst, not once per cycle), waiting until the stream has room for all
+    /// of them (at most half a stream: a slower reader and the cycle take turns once per half
+    /// stream). Runs at every half stream, before a step is answered and before the cycle idles.
     fn flush_stream(&mut self) {
-        for item in std::mem::take(&mut self.stream_buffer) {
-            let Some(tx) = self.stream.as_ref() else {
-                return;
-            };
-            let sent = match tx.try_send(item) {
-                Ok(()) => Ok(()),
-                Err(tmpsc::error::TrySendError::Full(item)) => {
-                    // Full: wait until half of it is free, not just one place, so that a
-                    // slower reader and the cycle take turns once per half stream.
-                    match futures::executor::block_on(tx.reserve_many(STREAM_CAPACITY / 2)) {
-                        Ok(mut room) => match room.next() {
-                            Some(permit) => {
-                                permit.send(item);
-                                Ok(())
-                            }
-                            None => Err(()),
-                        },
-                        Err(_) => Err(()),
-                    }
-                }
-                Err(tmpsc::error::TrySendError::Closed(_)) => Err(()),
-            };
-            if sent.is_err() {
-                // Nobody reads the stream any more (the node is stopping).
-                self.stream = None;
-            }
+        let (Some(tx), n @ 1..) = (self.stream.as_ref(), self.stream_buffer.len()) else {
+            return;
+        };
+        let Ok(permits) = futures::executor::block_on(tx.reserve_many(n)) else {
+            // Nobody reads the stream any more (the node is stopping).
+            self.stream = None;
+            self.stream_buffer.clear();
+            return;
+        };
+        for (permit, item) in permits.zip(self.stream_buffer.drain(..)) {
+            permit.send(item);
         }
     }
 
