@@ -403,15 +403,16 @@ fn record_topics_take_only_the_topics_named() {
     let dir = scratch_dir("motion_record_topics");
     let file = dir.join("some.mcap");
     let config = ten_axes_config(&dir, "");
-    let run = |args: &[&str]| {
+    let run_with = |config: &std::path::Path, args: &[&str]| {
         Command::new(launcher_bin())
-            .arg(&config)
+            .arg(config)
             .args(args)
             .env("ROS_DOMAIN_ID", unique_domain().to_string())
             .env("RUST_LOG", "warn")
             .output()
             .expect("motion_launch")
     };
+    let run = |args: &[&str]| run_with(&config, args);
     let f = file.to_string_lossy().to_string();
     let out = run(&[
         "--cycles",
@@ -446,11 +447,7 @@ fn record_topics_take_only_the_topics_named() {
         "record_topics: []\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
     )
     .unwrap();
-    let bad = Command::new(launcher_bin())
-        .arg(dir.join("key.yaml"))
-        .arg("--check")
-        .output()
-        .expect("motion_launch");
+    let bad = run_with(&dir.join("key.yaml"), &["--check"]);
     let log = String::from_utf8_lossy(&bad.stderr);
     assert_eq!(bad.status.code(), Some(2), "{log}");
     assert!(

@@ -2,7 +2,8 @@
 //! state published and recorded to MCAP, stepped in-process (as `motion_launch --cycles`
 //! does), as a ratio of simulated to wall time; the references are the bare engine stepping the
 //! same motion, the node with nothing recorded (its stream of snapshots alone), and the
-//! recording's floor (its bytes written again with nothing else to do), all in the same run. Must run inside scripts/netns-run (the node opens DDS sockets).
+//! recording's floor (its bytes written again with nothing else to do), all in the same run.
+//! Must run inside scripts/netns-run (the node opens DDS sockets).
 
 use axis_engine::MoveVelocity;
 use axis_engine::{AxisCommand, AxisConfig, AxisEngine, BufferMode, Direction, MoveOptions};
