@@ -311,7 +311,9 @@ pub fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
                     prev = next;
                 }
             };
-            events.publish(batch).await;
+            if let Some(work) = events.publish(batch) {
+                work.await;
+            }
         }
     });
     Ok(())
@@ -348,8 +350,8 @@ impl Numbered {
         }
     }
 
-    /// Records `batch` at once and returns its writing to DDS.
-    fn publish(&self, batch: Vec<AxisEvent>) -> motion_runtime::shell::StreamWork {
+    /// Records `batch` at once and returns its writing to DDS (none when nothing goes there).
+    fn publish(&self, batch: Vec<AxisEvent>) -> Option<motion_runtime::shell::StreamWork> {
         let publisher = self.publisher.clone();
         let dds: Vec<AxisEvent> = batch
             .into_iter()
@@ -358,13 +360,16 @@ impl Numbered {
                 publisher.record(e, at)
             })
             .collect();
-        Box::pin(async move {
+        if dds.is_empty() {
+            return None;
+        }
+        Some(Box::pin(async move {
             for e in dds {
                 if let Err(e) = publisher.publish_dds(e).await {
                     tracing::warn!("~/events publish failed: {e:?}");
                 }
             }
-        })
+        }))
     }
 }
 

@@ -276,7 +276,7 @@ impl<E: Engine> Controller<E> {
             } else {
                 (None, None)
             };
-        let (snap_tx, snapshots) = watch::channel(first);
+        let (snap_tx, snapshots) = watch::channel(first.clone());
         let (all_tx, all_rx) = tmpsc::unbounded_channel();
         let stats = Arc::new(Mutex::new(CycleStats::new(
             &config.name,
@@ -298,6 +298,7 @@ impl<E: Engine> Controller<E> {
             query_rx,
             control_rx,
             snap_tx,
+            latest: first,
             sink: EventSink { all: all_tx },
             watchers: HashMap::new(),
             events: Vec::with_capacity(64),
@@ -605,6 +606,9 @@ struct CycleThread<E: Engine> {
     query_rx: Receiver<Query<E>>,
     control_rx: Receiver<Control>,
     snap_tx: watch::Sender<Arc<Stamped<E::Snapshot>>>,
+    /// The newest snapshot taken; the state stream takes one every cycle, the watch only
+    /// every `snapshot_every` cycles of them (waking its receivers costs more than a cycle).
+    latest: Arc<Stamped<E::Snapshot>>,
     sink: EventSink,
     watchers: HashMap<CmdId, tmpsc::UnboundedSender<CommandEvent>>,
     events: Vec<CommandEvent>,
@@ -882,9 +886,12 @@ impl<E: Engine> CycleThread<E> {
         if self.stream.is_none() || n == 0 || !self.cycle.is_multiple_of(n) {
             return;
         }
-        self.snapshot_current();
+        if self.latest.cycle != self.cycle {
+            self.latest = self.build_snapshot();
+        }
+        self.snapshot_if_due();
         self.stream_buffer.push(Arc::new(StreamItem {
-            state: self.snap_tx.borrow().clone(),
+            state: self.latest.clone(),
             events: std::mem::take(&mut self.stream_events),
         }));
         if self.stream_buffer.len() >= STREAM_CAPACITY / 2 {
@@ -972,20 +979,28 @@ impl<E: Engine> CycleThread<E> {
     /// command's end and the end of a step all want the same one; the engine's snapshot is the
     /// costly part of a lockstep cycle).
     fn snapshot_current(&mut self) {
-        if self.snap_tx.borrow().cycle != self.cycle {
+        if self.latest.cycle != self.cycle {
             self.take_snapshot();
+        } else if self.snap_tx.borrow().cycle != self.cycle {
+            // The stream's snapshot of this cycle, not yet in the watch.
+            self.snap_tx.send_replace(self.latest.clone());
         }
     }
 
+    /// A fresh snapshot of the current cycle, into the watch.
     fn take_snapshot(&mut self) {
+        self.latest = self.build_snapshot();
+        self.snap_tx.send_replace(self.latest.clone());
+    }
+
+    fn build_snapshot(&self) -> Arc<Stamped<E::Snapshot>> {
         let sim_time = self.cycle as f64 * self.config.period;
-        let snap = Stamped {
+        Arc::new(Stamped {
             cycle: self.cycle,
             sim_time,
             ros_time_ns: self.clock.at(sim_time),
             state: self.engine.snapshot(),
-        };
-        self.snap_tx.send_replace(Arc::new(snap));
+        })
     }
 
     fn publish_stats(&mut self) {

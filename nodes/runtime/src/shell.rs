@@ -229,10 +229,11 @@ pub type StreamWork = std::pin::Pin<Box<dyn Future<Output = ()> + Send>>;
 /// A reader of the state stream in stream mode: a state topic (builds and records its message
 /// at once, returns the DDS write) or a [`NodeShell::stream_reader`].
 type StreamReader<E> =
-    Box<dyn FnMut(&crate::cycle::StreamItem<<E as Engine>::Snapshot>) -> StreamWork + Send>;
+    Box<dyn FnMut(&crate::cycle::StreamItem<<E as Engine>::Snapshot>) -> Option<StreamWork> + Send>;
 
 /// A topic published from the state stream: `build` makes its message of each streamed
-/// snapshot, which is recorded at once; the returned work writes it to DDS.
+/// snapshot, which is recorded at once; the returned work writes it to DDS (none in a
+/// record-only run: no future is made per topic and cycle).
 fn stream_topic<E, M>(
     publisher: RecordedPublisher<M>,
     build: impl Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
@@ -246,18 +247,16 @@ where
     Box::new(move |item| {
         if !publisher.wanted() {
             // A run that records other topics only: not even built.
-            return Box::pin(std::future::ready(()));
+            return None;
         }
-        let publisher = publisher.clone();
         let snap = &item.state;
-        let publish = publisher.record(build(snap), snap.ros_time_ns);
-        Box::pin(async move {
-            if let Some(msg) = publish {
-                if let Err(e) = publisher.publish_dds(msg).await {
-                    tracing::warn!("{} publish failed: {e:?}", M::ROS_TYPE_NAME);
-                }
+        let msg = publisher.record(build(snap), snap.ros_time_ns)?;
+        let publisher = publisher.clone();
+        Some(Box::pin(async move {
+            if let Err(e) = publisher.publish_dds(msg).await {
+                tracing::warn!("{} publish failed: {e:?}", M::ROS_TYPE_NAME);
             }
-        })
+        }) as StreamWork)
     })
 }
 
@@ -504,7 +503,9 @@ where
                 let mut published = 0;
                 for item in items.drain(..) {
                     for read in &mut readers {
-                        read(&item).await;
+                        if let Some(work) = read(&item) {
+                            work.await;
+                        }
                     }
                     published = item.state.cycle + 1;
                 }
@@ -515,12 +516,13 @@ where
 
     /// Stream mode (lockstep with a state stream, `settings.state_stream`): `read` gets every
     /// item of the stream (each snapshot with the command events before it) after the state
-    /// topics, in the stream's task; the future it returns is awaited before the next item (the
-    /// stream, and so the lockstep cycle, waits for it), and [`NodeShell::states_flushed`]
-    /// covers it. Without a stream `read` is never called. Call before the node starts.
+    /// topics, in the stream's task; the future it returns (if any) is awaited before the next
+    /// item (the stream, and so the lockstep cycle, waits for it), and
+    /// [`NodeShell::states_flushed`] covers it. Without a stream `read` is never called. Call
+    /// before the node starts.
     pub fn stream_reader(
         &mut self,
-        read: impl FnMut(&crate::cycle::StreamItem<E::Snapshot>) -> StreamWork + Send + 'static,
+        read: impl FnMut(&crate::cycle::StreamItem<E::Snapshot>) -> Option<StreamWork> + Send + 'static,
     ) {
         self.streams.push(Box::new(read));
     }
