@@ -14,7 +14,7 @@ fn actual(snap: &Stamped<AxisSnapshot>, axis: &str) -> (f64, f64) {
     snap.state
         .axes
         .iter()
-        .find(|a| a.name == axis)
+        .find(|a| *a.name == *axis)
         .map(|a| (a.act_pos, a.act_velo))
         .unwrap_or((0.0, 0.0))
 }

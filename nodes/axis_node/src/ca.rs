@@ -409,7 +409,12 @@ where
 pub(crate) fn register(shell: &mut NodeShell<AxisEngine>) -> Result<(), ShellError> {
     register_sim(shell)?;
     let snap = shell.handle.snapshot();
-    let axes: Vec<String> = snap.state.axes.iter().map(|a| a.name.clone()).collect();
+    let axes: Vec<String> = snap
+        .state
+        .axes
+        .iter()
+        .map(|a| str::to_owned(&a.name))
+        .collect();
     let groups: Vec<String> = snap
         .state
         .ca_groups
@@ -704,7 +709,7 @@ fn kin(snap: &Stamped<AxisSnapshot>, group: &str, axis: &str) -> Kin {
             .state
             .axes
             .iter()
-            .find(|a| a.name == axis)
+            .find(|a| *a.name == *axis)
             .map_or((0.0, 0.0, f64::NAN, false, false, false, None), |a| {
                 (a.set_pos, a.set_velo, f64::NAN, false, false, false, None)
             }),

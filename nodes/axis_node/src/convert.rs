@@ -13,7 +13,7 @@ use motion_runtime::{NodeShell, ShellError};
 pub fn axis_state(a: &AxisStatus, stamp: Time) -> AxisState {
     AxisState {
         stamp,
-        name: a.name.clone(),
+        name: str::to_owned(&a.name),
         motion_state: a.motion_state as u8,
         state_dword: a.state_dword,
         error_code: a.error_code,
@@ -115,7 +115,7 @@ pub fn joint_state(s: &Stamped<AxisSnapshot>, joints: &[JointType]) -> JointStat
             stamp: stamp(s),
             frame_id: String::new(),
         },
-        name: axes.iter().map(|a| a.name.clone()).collect(),
+        name: axes.iter().map(|a| str::to_owned(&a.name)).collect(),
         position: axes
             .iter()
             .enumerate()

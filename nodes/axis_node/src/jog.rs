@@ -48,7 +48,7 @@ async fn call(
         .state
         .axes
         .iter()
-        .any(|a| a.name == r.axis)
+        .any(|a| *a.name == *r.axis)
     {
         return respond(Err(Rejection::unknown_object("axis", &r.axis)));
     }

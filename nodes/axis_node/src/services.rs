@@ -350,7 +350,12 @@ pub(crate) fn known_axis(
     handle: &motion_runtime::ControllerHandle<AxisEngine>,
     axis: &str,
 ) -> bool {
-    handle.snapshot().state.axes.iter().any(|a| a.name == axis)
+    handle
+        .snapshot()
+        .state
+        .axes
+        .iter()
+        .any(|a| *a.name == *axis)
 }
 
 /// `~/read_parameter`: MC_ReadParameter or MC_ReadBoolParameter by the parameter's type.

@@ -248,7 +248,7 @@ impl GroupCx<'_> {
                     .members
                     .iter()
                     .filter(|m| ident_in_group == 0 || m.0 == ident_in_group)
-                    .map(|m| (self.axes[m.1].name.clone(), m.0))
+                    .map(|m| (str::to_owned(&self.axes[m.1].name), m.0))
                     .collect();
                 if list.is_empty() && ident_in_group != 0 {
                     return Err(invalid(
@@ -582,7 +582,7 @@ impl Groups {
                     let x = &axes[i];
                     (x.act_pos - x.set.pos).abs() <= x.cfg.position_range_window
                 }),
-            axes: grp.axes().map(|i| axes[i].name.clone()).collect(),
+            axes: grp.axes().map(|i| str::to_owned(&axes[i].name)).collect(),
             idents: grp.members.iter().map(|m| m.0).collect(),
             error_id: grp.error,
             override_factor: grp.override_factor,

@@ -516,9 +516,9 @@ impl CaGroups {
                         let a = &axes[m.axis];
                         let target = g.eff_gap(k);
                         CaAxisStatus {
-                            name: a.name.clone(),
+                            name: str::to_owned(&a.name),
                             ident_in_group: m.ident,
-                            predecessor: g.pred(k).map(|p| axes[g.members[p].axis].name.clone()),
+                            predecessor: g.pred(k).map(|p| str::to_owned(&axes[g.members[p].axis].name)),
                             position: a.set.pos,
                             modulo_position: if g.cfg.rail_is_ring {
                                 a.set.pos.rem_euclid(g.cfg.rail_length)

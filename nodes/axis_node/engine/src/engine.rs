@@ -90,7 +90,7 @@ impl AxisEngine {
 
     /// Axis names in configuration order.
     pub fn axis_names(&self) -> impl Iterator<Item = &str> {
-        self.set.axes.iter().map(|a| a.name.as_str())
+        self.set.axes.iter().map(|a| a.name.as_ref())
     }
 
     /// The status of one axis.
@@ -380,7 +380,7 @@ impl Engine for AxisEngine {
         for i in 0..self.set.axes.len() {
             let a = &self.set.axes[i];
             let stop = Stop {
-                axis: a.name.clone(),
+                axis: str::to_owned(&a.name),
                 deceleration: a.cfg.fast_deceleration,
                 jerk: a.cfg.fast_jerk,
                 options: MoveOptions::default(),

@@ -98,7 +98,7 @@ impl PlatformCx<'_> {
             .axes
             .iter()
             .map(|a| {
-                let c = cfg.axes.get(&a.name).cloned().unwrap_or_default();
+                let c = cfg.axes.get(&*a.name).cloned().unwrap_or_default();
                 AxisPlatform {
                     referenced: c.referenced,
                     cfg: c,
@@ -517,7 +517,7 @@ impl PlatformCx<'_> {
                 let _ = self.set.power(
                     ax,
                     Power {
-                        axis: name,
+                        axis: str::to_owned(&name),
                         enable: true,
                         enable_positive: true,
                         enable_negative: true,

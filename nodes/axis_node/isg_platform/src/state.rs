@@ -321,7 +321,7 @@ impl Platform {
                     .iter()
                     .zip(&set.axes)
                     .map(|(s, a)| AxisSafetyStatus {
-                        name: a.name.clone(),
+                        name: str::to_owned(&a.name),
                         referenced: s.referenced,
                         velocity_monitoring: s.velocity_lease == 0,
                         torque_limit_monitoring: s.torque_lease == 0,

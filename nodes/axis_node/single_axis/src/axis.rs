@@ -146,7 +146,7 @@ pub struct Settle {
 #[derive(Clone, Debug)]
 pub struct Axis {
     /// Axis name (the key of every command).
-    pub name: String,
+    pub name: std::sync::Arc<str>,
     /// Configuration (§1.2 parameters, validated).
     pub cfg: AxisConfig,
     /// Parameters without simulator effect, by NC index offset (§6).
@@ -280,7 +280,7 @@ impl Axis {
     pub fn new(name: String, cfg: AxisConfig) -> Self {
         let p = cfg.initial_position;
         Axis {
-            name,
+            name: name.into(),
             other_params: BTreeMap::new(),
             enable: false,
             enable_positive: false,

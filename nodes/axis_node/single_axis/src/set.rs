@@ -283,7 +283,7 @@ impl AxisSet {
     pub fn instance(&self, id: CmdId) -> Option<(&str, FbKind)> {
         self.fbs
             .get(id)
-            .map(|i| (self.axes[i.axis].name.as_str(), i.kind))
+            .map(|i| (self.axes[i.axis].name.as_ref(), i.kind))
     }
 
     /// Index of the named axis; unknown → UNKNOWN_OBJECT.

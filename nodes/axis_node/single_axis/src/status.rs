@@ -79,7 +79,7 @@ pub mod axis_state {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AxisStatus {
     /// Axis name.
-    pub name: String,
+    pub name: std::sync::Arc<str>,
     /// MC_AxisStates (§2.1).
     pub motion_state: MotionState,
     /// StateDWord bits ([`bits`]).

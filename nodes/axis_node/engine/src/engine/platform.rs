@@ -91,7 +91,7 @@ impl isg_platform::raw::RawHost for AxisEngine {
 
     fn channel_name(&self, channel: usize) -> String {
         match self.set.axes.get(channel) {
-            Some(a) => a.name.clone(),
+            Some(a) => str::to_owned(&a.name),
             None => self.groups.list[channel - self.set.axes.len()].name.clone(),
         }
     }

@@ -579,7 +579,7 @@ impl AxisSet {
         let set = AxisParameterSet {
             axis_id: id,
             axis_type: 1,
-            axis_name: a.name.clone(),
+            axis_name: str::to_owned(&a.name),
             axis_cycle_time: c.cycle_time,
             enable_position_area_control: c.en_position_range_monitoring,
             position_area_control_range: c.position_range_window,

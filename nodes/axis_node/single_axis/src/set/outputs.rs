@@ -20,7 +20,7 @@ impl AxisSet {
         outputs.standard.error = error;
         outputs.standard.error_id = a.power_error;
         Some(InstanceOutputs {
-            axis: a.name.clone(),
+            axis: str::to_owned(&a.name),
             kind: FbKind::Power,
             outputs,
             superimposed: None,
@@ -127,7 +127,11 @@ impl AxisSet {
             masters: a
                 .coupling
                 .filter(|c| c.ext.multi.is_some())
-                .map(|c| c.masters().map(|m| self.axes[m].name.clone()).collect())
+                .map(|c| {
+                    c.masters()
+                        .map(|m| str::to_owned(&self.axes[m].name))
+                        .collect()
+                })
                 .unwrap_or_default(),
         })
     }
