@@ -33,8 +33,9 @@ pub(crate) fn orders(i: usize) -> [AxisCommand; 2] {
     ]
 }
 
-/// The bare engine: the same axes and orders, stepped `cycles` times; simulated / wall time.
-fn bare(cycles: u64) -> f64 {
+/// The bare engine: the same axes and orders, stepped `cycles` times, with (`snapshots`) or
+/// without the engine's snapshot of every cycle (dropped at once); simulated / wall time.
+fn bare(cycles: u64, snapshots: bool) -> f64 {
     let axes = (0..AXES)
         .map(|i| (format!("a{i}"), AxisConfig::default()))
         .collect();
@@ -62,6 +63,9 @@ fn bare(cycles: u64) -> f64 {
     let t0 = Instant::now();
     for _ in 0..cycles {
         step(&mut e);
+        if snapshots {
+            std::hint::black_box(e.snapshot());
+        }
     }
     cycles as f64 * 0.001 / t0.elapsed().as_secs_f64()
 }
@@ -173,9 +177,10 @@ pub fn speed(cycles: u64) {
         .expect("recording closed");
     let (per_cycle, writer, plain) = floor(&file, cycles.min(20_000));
     let _ = std::fs::remove_file(&file);
-    let bare = bare(cycles);
+    let bare_snapshots = bare(cycles, true);
+    let bare = bare(cycles, false);
     println!(
-        "lockstep @1 ms, axis node, {moving} of {AXES} axes moving, every cycle recorded: {ratio:.1}x real time recorded only (as --cycles runs) | {published:.1}x also published over DDS ({written} messages, {dropped} dropped) | {unrecorded:.1}x with nothing recorded | bare engine {bare:.0}x (ratio {:.4}) | target >= {TARGET:.0}x: {}",
+        "lockstep @1 ms, axis node, {moving} of {AXES} axes moving, every cycle recorded: {ratio:.1}x real time recorded only (as --cycles runs) | {published:.1}x also published over DDS ({written} messages, {dropped} dropped) | {unrecorded:.1}x with nothing recorded | bare engine {bare:.0}x (ratio {:.4}), with a snapshot per cycle {bare_snapshots:.0}x | target >= {TARGET:.0}x: {}",
         ratio / bare,
         if ratio >= TARGET { "met" } else { "NOT met" }
     );
