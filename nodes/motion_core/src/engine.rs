@@ -42,6 +42,12 @@ pub trait Engine: Send + 'static {
     /// The state as published on the state topics.
     fn snapshot(&self) -> Self::Snapshot;
 
+    /// [`Engine::snapshot`] into an earlier snapshot, reusing its memory (a lockstep state
+    /// stream takes one every cycle). Default: a fresh one.
+    fn snapshot_into(&self, out: &mut Self::Snapshot) {
+        *out = self.snapshot();
+    }
+
     /// Called when the ROS side gave up on a command (e.g. an action goal was cancelled):
     /// the engine applies the manual's halt semantics for it. Default: nothing to do.
     fn cancel(&mut self, _id: CmdId) -> Result<(), Rejection> {

@@ -174,7 +174,11 @@ pub struct StreamItem<S> {
 }
 
 /// Snapshots in flight on the state stream before the cycle waits.
-pub(crate) const STREAM_CAPACITY: usize = 64;
+pub(crate) const STREAM_CAPACITY: usize = 256;
+
+/// Snapshots kept for reuse in stream mode: more than can be in flight (the stream, the
+/// items not yet handed over, the watch's and a reader's previous one).
+const SPARE_SNAPSHOTS: usize = 2 * STREAM_CAPACITY;
 
 impl<E: Engine> Clone for ControllerHandle<E> {
     fn clone(&self) -> Self {
@@ -317,6 +321,7 @@ impl<E: Engine> Controller<E> {
             stream: stream_tx,
             stream_events: Vec::new(),
             stream_buffer: Vec::new(),
+            spare: VecDeque::new(),
             script: VecDeque::new(),
             open: Default::default(),
             busy: busy.clone(),
@@ -635,6 +640,8 @@ struct CycleThread<E: Engine> {
     stream_events: Vec<(TimedEvent, CommandLabel)>,
     /// Stream items not handed over yet (see `flush_stream`).
     stream_buffer: Vec<Arc<StreamItem<E::Snapshot>>>,
+    /// Stream mode: the snapshots handed out, oldest first, for reuse (see `build_snapshot`).
+    spare: VecDeque<Arc<Stamped<E::Snapshot>>>,
     /// The command script's steps still to run: (cycle, command), in running order.
     script: VecDeque<ScriptedCommand<E::Command>>,
     /// Accepted commands that have not ended yet.
@@ -993,14 +1000,32 @@ impl<E: Engine> CycleThread<E> {
         self.snap_tx.send_replace(self.latest.clone());
     }
 
-    fn build_snapshot(&self) -> Arc<Stamped<E::Snapshot>> {
+    fn build_snapshot(&mut self) -> Arc<Stamped<E::Snapshot>> {
         let sim_time = self.cycle as f64 * self.config.period;
-        Arc::new(Stamped {
+        let ros_time_ns = self.clock.at(sim_time);
+        // Stream mode: the oldest snapshot handed out is refilled in place once no one else
+        // holds it (its memory is reused while warm; nothing allocated or freed per cycle).
+        if let Some(mut old) = self.spare.pop_front() {
+            if let Some(s) = Arc::get_mut(&mut old) {
+                s.cycle = self.cycle;
+                s.sim_time = sim_time;
+                s.ros_time_ns = ros_time_ns;
+                self.engine.snapshot_into(&mut s.state);
+                self.spare.push_back(old.clone());
+                return old;
+            }
+            self.spare.push_front(old);
+        }
+        let fresh = Arc::new(Stamped {
             cycle: self.cycle,
             sim_time,
-            ros_time_ns: self.clock.at(sim_time),
+            ros_time_ns,
             state: self.engine.snapshot(),
-        })
+        });
+        if self.stream.is_some() && self.spare.len() < SPARE_SNAPSHOTS {
+            self.spare.push_back(fresh.clone());
+        }
+        fresh
     }
 
     fn publish_stats(&mut self) {

@@ -418,27 +418,30 @@ impl Engine for AxisEngine {
     }
 
     fn snapshot(&self) -> AxisSnapshot {
+        let mut s = AxisSnapshot::default();
+        self.snapshot_into(&mut s);
+        s
+    }
+
+    fn snapshot_into(&self, out: &mut AxisSnapshot) {
         let master = self.set.masters();
         let starting = self.platform.starting();
-        AxisSnapshot {
-            tick: self.tick,
-            axes: (0..self.set.axes.len())
-                .map(|i| {
-                    let mut s = self.axis_status(i, master[i]);
-                    s.ext = self.set.ext_values(i);
-                    if starting {
-                        // INIT_STATE during start-up (§9).
-                        s.motion_state = crate::state::MotionState::Undefined;
-                    }
-                    s
-                })
-                .collect(),
-            groups: (0..self.groups.list.len())
-                .map(|g| self.group_status(g))
-                .collect(),
-            platform: self.platform_status(),
-            ca_groups: self.ca.snapshot(&self.set.axes),
-        }
+        out.tick = self.tick;
+        out.axes.clear();
+        out.axes.extend((0..self.set.axes.len()).map(|i| {
+            let mut s = self.axis_status(i, master[i]);
+            s.ext = self.set.ext_values(i);
+            if starting {
+                // INIT_STATE during start-up (§9).
+                s.motion_state = crate::state::MotionState::Undefined;
+            }
+            s
+        }));
+        out.groups.clear();
+        out.groups
+            .extend((0..self.groups.list.len()).map(|g| self.group_status(g)));
+        out.platform = self.platform_status();
+        out.ca_groups = self.ca.snapshot(&self.set.axes);
     }
 
     fn reply_id(reply: &AxisReply) -> Option<CmdId> {

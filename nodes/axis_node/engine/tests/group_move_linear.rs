@@ -372,3 +372,24 @@ fn soft_limits_of_members_refuse_the_target() {
     assert_eq!(err(r.g(lin_abs(vec![0.0, 101.0], 10.0))), ErrorId(0x4D01));
     assert_eq!(r.gs().state, GroupState::Standby);
 }
+
+/// A lockstep stream refills old snapshots in place (`snapshot_into`): the result is the
+/// same as a fresh snapshot, also from a snapshot of another engine with other axes and
+/// groups (nothing of the old one is left behind).
+#[test]
+fn snapshot_into_an_old_snapshot_equals_a_fresh_one() {
+    use motion_core::Engine;
+    let mut r = P4::xy_powered();
+    let mut old = r.e.snapshot();
+    let mut other = AxisEngine::new(vec![("w".to_string(), AxisConfig::default())])
+        .expect("engine")
+        .snapshot();
+    r.gid(lin_abs(vec![300.0, -400.0], 250.0));
+    r.steps(50);
+    r.e.snapshot_into(&mut old);
+    r.e.snapshot_into(&mut other);
+    let fresh = r.e.snapshot();
+    assert!(fresh.axes[0].set_velo > 0.0, "moving");
+    assert_eq!(old, fresh);
+    assert_eq!(other, fresh);
+}
