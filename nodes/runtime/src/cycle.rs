@@ -1014,7 +1014,9 @@ impl<E: Engine> CycleThread<E> {
                 self.spare.push_back(old.clone());
                 return old;
             }
-            self.spare.push_front(old);
+            // Still held (in flight, or kept by a reader): behind the others, so that one
+            // snapshot held long does not stop the reuse of those after it.
+            self.spare.push_back(old);
         }
         let fresh = Arc::new(Stamped {
             cycle: self.cycle,

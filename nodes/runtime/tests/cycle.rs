@@ -429,6 +429,50 @@ fn lockstep_admits_commands_between_steps_and_applies_them_at_the_next_step() {
     });
 }
 
+/// Stream mode reuses the snapshots its reader let go of (issue 14, speed): each item still
+/// shows its own cycle when the reader keeps some of them far longer than the stream is long
+/// (a held snapshot is never refilled), over many more cycles than the reuse pool holds.
+#[test]
+fn lockstep_stream_reuse_never_touches_a_held_snapshot() {
+    rt().block_on(async {
+        let cfg = CycleConfig {
+            stream_every: 1,
+            ..lockstep(0.001, 8)
+        };
+        let (ctl, _events) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
+        let h = ctl.handle();
+        let mut stream = h.take_state_stream().expect("stream");
+        let reader = tokio::spawn(async move {
+            let (mut kept, mut seen) = (Vec::new(), 0u64);
+            while let Some(item) = stream.recv().await {
+                let s = item.state.clone();
+                // The counter's snapshot counts its steps: it equals the item's cycle.
+                assert_eq!(s.state.1 as u64, s.cycle, "item of cycle {}", s.cycle);
+                assert_eq!(s.cycle, seen, "in order, none left out");
+                seen += 1;
+                if s.cycle % 97 == 0 {
+                    kept.push(s);
+                }
+                if seen > 5000 {
+                    break;
+                }
+            }
+            kept
+        });
+        h.submit(Cmd::SetVel(1.0), None).unwrap();
+        assert_eq!(h.step(5000).await.unwrap(), 5000);
+        let kept = reader.await.unwrap();
+        assert_eq!(kept.len(), 52);
+        for s in &kept {
+            assert_eq!(s.state.1 as u64, s.cycle, "a kept snapshot was refilled");
+            assert!((s.state.0 - s.cycle as f64 * 0.001).abs() < 1e-9);
+        }
+        assert_eq!(h.snapshot().cycle, 5000);
+        assert_eq!(h.snapshot().state.1, 5000);
+        drop(ctl);
+    });
+}
+
 /// Lockstep state stream (`state_publish_every_n_cycles`, issue 15.9): every n-th cycle from
 /// cycle 0, none dropped, in order, although one step runs far more cycles than the stream
 /// holds; the cycle waits for the reader. Each item carries the command events of the cycles
