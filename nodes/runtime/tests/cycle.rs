@@ -429,19 +429,30 @@ fn lockstep_admits_commands_between_steps_and_applies_them_at_the_next_step() {
     });
 }
 
+/// A lockstep counter at 1 ms whose state stream carries every `n`-th cycle, and the stream.
+fn streaming(
+    n: u32,
+) -> (
+    Controller<Counter>,
+    motion_runtime::cycle::StateStream<Counter>,
+) {
+    let cfg = CycleConfig {
+        stream_every: n,
+        ..lockstep(0.001, 8)
+    };
+    let (ctl, _events) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
+    let stream = ctl.handle().take_state_stream().expect("stream");
+    (ctl, stream)
+}
+
 /// Stream mode reuses the snapshots its reader let go of (issue 14, speed): each item still
 /// shows its own cycle when the reader keeps some of them far longer than the stream is long
 /// (a held snapshot is never refilled), over many more cycles than the reuse pool holds.
 #[test]
 fn lockstep_stream_reuse_never_touches_a_held_snapshot() {
     rt().block_on(async {
-        let cfg = CycleConfig {
-            stream_every: 1,
-            ..lockstep(0.001, 8)
-        };
-        let (ctl, _events) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
+        let (ctl, mut stream) = streaming(1);
         let h = ctl.handle();
-        let mut stream = h.take_state_stream().expect("stream");
         let reader = tokio::spawn(async move {
             let (mut kept, mut seen) = (Vec::new(), 0u64);
             while let Some(item) = stream.recv().await {
@@ -481,13 +492,8 @@ fn lockstep_stream_reuse_never_touches_a_held_snapshot() {
 #[test]
 fn lockstep_state_stream_carries_every_nth_cycle() {
     rt().block_on(async {
-        let cfg = CycleConfig {
-            stream_every: 3,
-            ..lockstep(0.001, 8)
-        };
-        let (ctl, _events) = Controller::spawn(counter(), cfg, |r| *r).unwrap();
+        let (ctl, mut stream) = streaming(3);
         let h = ctl.handle();
-        let mut stream = h.take_state_stream().expect("stream");
         assert!(h.take_state_stream().is_none(), "one reader");
         let reader = tokio::spawn(async move {
             let mut seen = Vec::new();
