@@ -12,9 +12,7 @@ use ros2_client::ActionTypeName;
 
 fn actual(snap: &Stamped<AxisSnapshot>, axis: &str) -> (f64, f64) {
     snap.state
-        .axes
-        .iter()
-        .find(|a| *a.name == *axis)
+        .axis(axis)
         .map(|a| (a.act_pos, a.act_velo))
         .unwrap_or((0.0, 0.0))
 }

@@ -707,9 +707,7 @@ fn kin(snap: &Stamped<AxisSnapshot>, group: &str, axis: &str) -> Kin {
         ),
         None => snap
             .state
-            .axes
-            .iter()
-            .find(|a| *a.name == *axis)
+            .axis(axis)
             .map_or((0.0, 0.0, f64::NAN, false, false, false, None), |a| {
                 (a.set_pos, a.set_velo, f64::NAN, false, false, false, None)
             }),

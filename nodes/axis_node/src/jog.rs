@@ -43,13 +43,7 @@ async fn call(
         Ok(m) => m,
         Err(e) => return respond(Err(e)),
     };
-    if !handle
-        .snapshot()
-        .state
-        .axes
-        .iter()
-        .any(|a| *a.name == *r.axis)
-    {
+    if handle.snapshot().state.axis(&r.axis).is_none() {
         return respond(Err(Rejection::unknown_object("axis", &r.axis)));
     }
     let prev = held.get(&r.axis).copied().unwrap_or_default();

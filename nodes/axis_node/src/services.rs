@@ -350,12 +350,7 @@ pub(crate) fn known_axis(
     handle: &motion_runtime::ControllerHandle<AxisEngine>,
     axis: &str,
 ) -> bool {
-    handle
-        .snapshot()
-        .state
-        .axes
-        .iter()
-        .any(|a| *a.name == *axis)
+    handle.snapshot().state.axis(axis).is_some()
 }
 
 /// `~/read_parameter`: MC_ReadParameter or MC_ReadBoolParameter by the parameter's type.

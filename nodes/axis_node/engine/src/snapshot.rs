@@ -23,6 +23,6 @@ pub struct AxisSnapshot {
 impl AxisSnapshot {
     /// The status of the named axis.
     pub fn axis(&self, name: &str) -> Option<&AxisStatus> {
-        self.axes.iter().find(|a| *a.name == *name)
+        self.axes.iter().find(|a| &*a.name == name)
     }
 }
