@@ -893,9 +893,7 @@ impl<E: Engine> CycleThread<E> {
         if self.stream.is_none() || n == 0 || !self.cycle.is_multiple_of(n) {
             return;
         }
-        if self.latest.cycle != self.cycle {
-            self.latest = self.build_snapshot();
-        }
+        self.snapshot_latest();
         self.snapshot_if_due();
         self.stream_buffer.push(Arc::new(StreamItem {
             state: self.latest.clone(),
@@ -982,15 +980,20 @@ impl<E: Engine> CycleThread<E> {
         }
     }
 
-    /// A snapshot of the current cycle unless one was already taken after it (the stream, a
+    /// The current cycle's snapshot in the watch, taken unless one was already (the stream, a
     /// command's end and the end of a step all want the same one; the engine's snapshot is the
     /// costly part of a lockstep cycle).
     fn snapshot_current(&mut self) {
-        if self.latest.cycle != self.cycle {
-            self.take_snapshot();
-        } else if self.snap_tx.borrow().cycle != self.cycle {
-            // The stream's snapshot of this cycle, not yet in the watch.
+        self.snapshot_latest();
+        if self.snap_tx.borrow().cycle != self.cycle {
             self.snap_tx.send_replace(self.latest.clone());
+        }
+    }
+
+    /// `latest` of the current cycle, not (yet) in the watch (see `latest`).
+    fn snapshot_latest(&mut self) {
+        if self.latest.cycle != self.cycle {
+            self.latest = self.build_snapshot();
         }
     }
 

@@ -228,8 +228,10 @@ pub type StreamWork = std::pin::Pin<Box<dyn Future<Output = ()> + Send>>;
 
 /// A reader of the state stream in stream mode: a state topic (builds and records its message
 /// at once, returns the DDS write) or a [`NodeShell::stream_reader`].
-type StreamReader<E> =
-    Box<dyn FnMut(&crate::cycle::StreamItem<<E as Engine>::Snapshot>) -> Option<StreamWork> + Send>;
+type StreamReader<E> = Box<dyn FnMut(&StreamItemOf<E>) -> Option<StreamWork> + Send>;
+
+/// An item of an engine's state stream.
+type StreamItemOf<E> = crate::cycle::StreamItem<<E as Engine>::Snapshot>;
 
 /// A topic published from the state stream: `build` makes its message of each streamed
 /// snapshot, which is recorded at once; the returned work writes it to DDS (none in a
@@ -522,7 +524,7 @@ where
     /// before the node starts.
     pub fn stream_reader(
         &mut self,
-        read: impl FnMut(&crate::cycle::StreamItem<E::Snapshot>) -> Option<StreamWork> + Send + 'static,
+        read: impl FnMut(&StreamItemOf<E>) -> Option<StreamWork> + Send + 'static,
     ) {
         self.streams.push(Box::new(read));
     }
