@@ -4,18 +4,15 @@
 //! into a FIFO whose reader starts reading only after a while. Own test binary: a process
 //! records once.
 
-use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::deps::rosgraph_msgs::msg::Clock;
 use motion_runtime::record::{self, RecordedTopic};
+use motion_runtime::shell::stamp_ns;
 use std::io::Read;
 use std::time::{Duration, Instant};
 
 fn clock(ns: i64) -> Clock {
     Clock {
-        clock: Time {
-            sec: (ns / 1_000_000_000) as i32,
-            nanosec: (ns % 1_000_000_000) as u32,
-        },
+        clock: stamp_ns(ns),
     }
 }
 
