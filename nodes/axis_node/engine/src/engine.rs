@@ -83,9 +83,15 @@ impl AxisEngine {
 
     /// NcToPlc status of axis `i` with the CA fields of its group.
     fn axis_status(&self, i: usize, master: bool) -> AxisStatus {
-        let mut s = self.set.axis_status(i, master);
-        self.ca.patch_status(i, &mut s);
+        let mut s = AxisStatus::default();
+        self.axis_status_into(i, master, &mut s);
         s
+    }
+
+    /// [`Self::axis_status`] written into `s` in place (a snapshot's refill).
+    fn axis_status_into(&self, i: usize, master: bool, s: &mut AxisStatus) {
+        self.set.axis_status_into(i, master, s);
+        self.ca.patch_status(i, s);
     }
 
     /// Axis names in configuration order.
@@ -427,16 +433,17 @@ impl Engine for AxisEngine {
         let master = self.set.masters();
         let starting = self.platform.starting();
         out.tick = self.tick;
-        out.axes.clear();
-        out.axes.extend((0..self.set.axes.len()).map(|i| {
-            let mut s = self.axis_status(i, master[i]);
+        // Refilled in place: an old snapshot's statuses are overwritten, not rebuilt.
+        out.axes
+            .resize_with(self.set.axes.len(), AxisStatus::default);
+        for (i, s) in out.axes.iter_mut().enumerate() {
+            self.axis_status_into(i, master[i], s);
             s.ext = self.set.ext_values(i);
             if starting {
                 // INIT_STATE during start-up (§9).
                 s.motion_state = crate::state::MotionState::Undefined;
             }
-            s
-        }));
+        }
         out.groups.clear();
         out.groups
             .extend((0..self.groups.list.len()).map(|g| self.group_status(g)));

@@ -339,7 +339,7 @@ impl Axis {
 
     /// The facts the §2 state machine derives the state from.
     pub fn facts(&self) -> StateFacts {
-        let kind = self.job.map(|j| j.kind);
+        let kind = self.job.as_ref().map(|j| j.kind);
         StateFacts {
             error: !self.error_id.is_none(),
             operational: self.controller_on && self.status,
@@ -347,7 +347,7 @@ impl Axis {
             homing: self.homing.is_some(),
             coupled: self.coupling.is_some() || self.group_motion,
             continuous: kind == Some(JobKind::Velocity)
-                || self.job.is_some_and(|j| j.continuous)
+                || self.job.as_ref().is_some_and(|j| j.continuous)
                 || self.torque.is_some()
                 || self.ext.ext_gen_moving(),
             has_job: self.job.is_some() || self.torque.is_some(),

@@ -223,9 +223,15 @@ impl AxisSet {
 
     /// NcToPlc status of axis `i` with its CoupleState, given whether it is a master.
     pub fn axis_status(&self, i: usize, master: bool) -> AxisStatus {
-        let mut s = self.axes[i].status();
-        s.couple_state = self.couple_state(i, master);
+        let mut s = AxisStatus::default();
+        self.axis_status_into(i, master, &mut s);
         s
+    }
+
+    /// [`Self::axis_status`] written into `s` in place (a snapshot's refill).
+    pub fn axis_status_into(&self, i: usize, master: bool, s: &mut AxisStatus) {
+        self.axes[i].status_into(s);
+        s.couple_state = self.couple_state(i, master);
     }
 
     /// Per axis: whether it is the master of a coupling.

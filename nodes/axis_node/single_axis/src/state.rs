@@ -10,10 +10,11 @@ use motion_core::ErrorId;
 use serde::{Deserialize, Serialize};
 
 /// `MC_AxisStates` (§2.1), values as in Tc2_MC2.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[repr(u8)]
 pub enum MotionState {
     /// MC_AXISSTATE_UNDEFINED (0).
+    #[default]
     Undefined = 0,
     /// MC_AXISSTATE_DISABLED (1).
     Disabled = 1,

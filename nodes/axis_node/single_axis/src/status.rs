@@ -76,7 +76,7 @@ pub mod axis_state {
 }
 
 /// State of one axis.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct AxisStatus {
     /// Axis name.
     pub name: std::sync::Arc<str>,

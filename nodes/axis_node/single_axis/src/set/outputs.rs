@@ -94,7 +94,7 @@ impl AxisSet {
             ext_set_velo: g.fed.vel,
             ext_set_acc: g.fed.acc,
             ext_torque: g.torque_offset,
-            encoder_increments: ((a.act_pos - off) / f).round().rem_euclid(4_294_967_296.0) as u32,
+            encoder_increments: counter32(((a.act_pos - off) / f).round()),
             control_loop_index: a.ext.x.control_loop_index,
         }
     }
@@ -134,5 +134,49 @@ impl AxisSet {
                 })
                 .unwrap_or_default(),
         })
+    }
+}
+
+/// A 32-bit counter's value at the whole number `n`: `n mod 2³²`. Through `i64` (two's
+/// complement wraps as `rem_euclid` does) where it fits, which spares an `fmod` per axis and
+/// cycle; `rem_euclid` beyond.
+fn counter32(n: f64) -> u32 {
+    if n.abs() < 9.0e18 {
+        n as i64 as u32
+    } else {
+        n.rem_euclid(4_294_967_296.0) as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::counter32;
+
+    #[test]
+    fn counter32_is_rem_euclid_of_two_to_the_32() {
+        let two32 = 4_294_967_296.0_f64;
+        for n in [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            two32 - 1.0,
+            two32,
+            -two32,
+            -two32 - 1.0,
+            123_456_789_012.0,
+            -123_456_789_012.0,
+            8.9e18,
+            -8.9e18,
+            9.1e18,
+            -9.1e18,
+            1e300,
+            -1e300,
+        ] {
+            assert_eq!(counter32(n), n.rem_euclid(two32) as u32, "n = {n}");
+        }
+        for n in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert_eq!(counter32(n), n.rem_euclid(two32) as u32, "n = {n}");
+        }
     }
 }
