@@ -437,7 +437,7 @@ impl Engine for AxisEngine {
         out.axes
             .resize_with(self.set.axes.len(), AxisStatus::default);
         for (i, s) in out.axes.iter_mut().enumerate() {
-            self.axis_status_into(i, master[i], s);
+            self.axis_status_into(i, master.get(i).copied().unwrap_or(false), s);
             s.ext = self.set.ext_values(i);
             if starting {
                 // INIT_STATE during start-up (§9).

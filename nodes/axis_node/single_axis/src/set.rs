@@ -235,10 +235,14 @@ impl AxisSet {
     }
 
     /// Per axis: whether it is the master of a coupling.
+    /// Empty while no axis is coupled: a snapshot of every cycle allocates nothing for it.
     pub fn masters(&self) -> Vec<bool> {
+        if self.axes.iter().all(|a| a.coupling.is_none()) {
+            return Vec::new();
+        }
         let mut master = vec![false; self.axes.len()];
         for a in &self.axes {
-            if let Some(c) = a.coupling {
+            if let Some(c) = &a.coupling {
                 for m in c.masters() {
                     master[m] = true;
                 }
@@ -249,9 +253,11 @@ impl AxisSet {
 
     /// Whether axis `i` is the master of a coupling.
     pub fn is_master(&self, i: usize) -> bool {
-        self.axes
-            .iter()
-            .any(|a| a.coupling.is_some_and(|c| c.masters().any(|m| m == i)))
+        self.axes.iter().any(|a| {
+            a.coupling
+                .as_ref()
+                .is_some_and(|c| c.masters().any(|m| m == i))
+        })
     }
 
     /// All outputs of an instance (incl. InVelocity), as the profile shows them.
