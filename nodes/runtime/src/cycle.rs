@@ -159,7 +159,7 @@ pub struct ControllerHandle<E: Engine> {
 }
 
 /// The lossless stream of lockstep snapshots (see [`CycleConfig::stream_every`]).
-pub type StateStream<E> = tmpsc::Receiver<Arc<StreamItem<<E as Engine>::Snapshot>>>;
+pub type StateStream<E> = tmpsc::Receiver<StreamItem<<E as Engine>::Snapshot>>;
 
 /// One item of the lockstep state stream: a snapshot, and the command events of the cycles
 /// since the previous item, with their labels, in the order they happened. Readers that merge
@@ -272,10 +272,10 @@ impl<E: Engine> Controller<E> {
             if config.stream_every > 0 && config.mode == ClockMode::Lockstep {
                 let (tx, rx) = tmpsc::channel(STREAM_CAPACITY);
                 // The first state is cycle 0's.
-                let _ = tx.try_send(Arc::new(StreamItem {
+                let _ = tx.try_send(StreamItem {
                     state: first.clone(),
                     events: Vec::new(),
-                }));
+                });
                 (Some(tx), Some(rx))
             } else {
                 (None, None)
@@ -635,11 +635,11 @@ struct CycleThread<E: Engine> {
     held: Option<CustomStep<E>>,
     /// The lossless state stream (lockstep with `stream_every` > 0); dropped when its reader
     /// is gone.
-    stream: Option<tmpsc::Sender<Arc<StreamItem<E::Snapshot>>>>,
+    stream: Option<tmpsc::Sender<StreamItem<E::Snapshot>>>,
     /// Stream mode: the command events since the last streamed snapshot, with their labels.
     stream_events: Vec<(TimedEvent, CommandLabel)>,
     /// Stream items not handed over yet (see `flush_stream`).
-    stream_buffer: Vec<Arc<StreamItem<E::Snapshot>>>,
+    stream_buffer: Vec<StreamItem<E::Snapshot>>,
     /// Stream mode: the snapshots handed out, oldest first, for reuse (see `build_snapshot`).
     spare: VecDeque<Arc<Stamped<E::Snapshot>>>,
     /// The command script's steps still to run: (cycle, command), in running order.
@@ -895,10 +895,11 @@ impl<E: Engine> CycleThread<E> {
         }
         self.snapshot_latest();
         self.snapshot_if_due();
-        self.stream_buffer.push(Arc::new(StreamItem {
+        // By value: the item is two pointers' worth, nothing to allocate per cycle.
+        self.stream_buffer.push(StreamItem {
             state: self.latest.clone(),
             events: std::mem::take(&mut self.stream_events),
-        }));
+        });
         if self.stream_buffer.len() >= STREAM_CAPACITY / 2 {
             self.flush_stream();
         }
