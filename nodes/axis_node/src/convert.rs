@@ -11,9 +11,21 @@ use motion_runtime::{NodeShell, ShellError};
 
 /// One axis as `motion_msgs/AxisState`.
 pub fn axis_state(a: &AxisStatus, stamp: Time) -> AxisState {
-    AxisState {
+    let mut m = AxisState::default();
+    axis_state_into(a, stamp, &mut m);
+    m
+}
+
+/// [`axis_state`] into `m`, keeping its name's memory (a message refilled every cycle).
+pub fn axis_state_into(a: &AxisStatus, stamp: Time, m: &mut AxisState) {
+    let mut name = std::mem::take(&mut m.name);
+    if name != *a.name {
+        name.clear();
+        name.push_str(&a.name);
+    }
+    *m = AxisState {
         stamp,
-        name: str::to_owned(&a.name),
+        name,
         motion_state: a.motion_state as u8,
         state_dword: a.state_dword,
         error_code: a.error_code,
@@ -54,19 +66,16 @@ pub fn axis_state(a: &AxisStatus, stamp: Time) -> AxisState {
         raw_set_pos: a.raw_pos,
         raw_act_pos: a.raw_act_pos,
         home_cam: a.home_cam,
-    }
+    };
 }
 
-/// All axes as `motion_msgs/AxisStateArray`.
-pub fn axis_state_array(s: &Stamped<AxisSnapshot>) -> AxisStateArray {
-    AxisStateArray {
-        stamp: stamp(s),
-        axes: s
-            .state
-            .axes
-            .iter()
-            .map(|a| axis_state(a, stamp(s)))
-            .collect(),
+/// All axes as `motion_msgs/AxisStateArray`, into `m` (its entries refilled in place).
+pub fn axis_state_array_into(s: &Stamped<AxisSnapshot>, m: &mut AxisStateArray) {
+    let AxisStateArray { stamp: at, axes } = m;
+    *at = stamp(s);
+    axes.resize_with(s.state.axes.len(), AxisState::default);
+    for (a, m) in s.state.axes.iter().zip(axes) {
+        axis_state_into(a, stamp(s), m);
     }
 }
 
@@ -107,27 +116,34 @@ impl JointType {
 
 /// All axes as `sensor_msgs/JointState` in SI units (actual position and velocity; effort =
 /// set torque is not modelled yet and left empty).
-pub fn joint_state(s: &Stamped<AxisSnapshot>, joints: &[JointType]) -> JointState {
+/// Written into `js`: its names are rebuilt only when the axes' names differ (never while a
+/// node runs), its arrays keep their memory.
+pub fn joint_state_into(s: &Stamped<AxisSnapshot>, joints: &[JointType], js: &mut JointState) {
     let k = |i: usize| joints.get(i).copied().unwrap_or_default().to_si();
     let axes = &s.state.axes;
-    JointState {
-        header: Header {
-            stamp: stamp(s),
-            frame_id: String::new(),
-        },
-        name: axes.iter().map(|a| str::to_owned(&a.name)).collect(),
-        position: axes
-            .iter()
-            .enumerate()
-            .map(|(i, a)| a.act_pos * k(i))
-            .collect(),
-        velocity: axes
-            .iter()
-            .enumerate()
-            .map(|(i, a)| a.act_velo * k(i))
-            .collect(),
-        effort: Vec::new(),
+    let JointState {
+        header,
+        name,
+        position,
+        velocity,
+        effort,
+    } = js;
+    *header = Header {
+        stamp: stamp(s),
+        frame_id: String::new(),
+    };
+    if !name
+        .iter()
+        .map(String::as_str)
+        .eq(axes.iter().map(|a| &*a.name))
+    {
+        *name = axes.iter().map(|a| str::to_owned(&a.name)).collect();
     }
+    position.clear();
+    position.extend(axes.iter().enumerate().map(|(i, a)| a.act_pos * k(i)));
+    velocity.clear();
+    velocity.extend(axes.iter().enumerate().map(|(i, a)| a.act_velo * k(i)));
+    effort.clear();
 }
 
 pub(crate) fn register_topics(
@@ -135,21 +151,22 @@ pub(crate) fn register_topics(
     names: Vec<String>,
     joints: Vec<JointType>,
 ) -> Result<(), ShellError> {
-    shell.state_publisher(
+    // Refilled messages: a lockstep stream of every cycle allocates no names or arrays.
+    shell.state_publisher_refill(
         "~/axis_states",
         AxisStateArray::type_name(),
-        axis_state_array,
+        axis_state_array_into,
     )?;
-    shell.state_publisher("joint_states", JointState::type_name(), move |s| {
-        joint_state(s, &joints)
+    shell.state_publisher_refill("joint_states", JointState::type_name(), move |s, js| {
+        joint_state_into(s, &joints, js)
     })?;
     for (i, name) in names.into_iter().enumerate() {
-        shell.state_publisher(
+        shell.state_publisher_refill(
             &format!("~/axes/{name}/state"),
             AxisState::type_name(),
-            move |s| match s.state.axes.get(i) {
-                Some(a) => axis_state(a, stamp(s)),
-                None => AxisState::default(),
+            move |s, m| match s.state.axes.get(i) {
+                Some(a) => axis_state_into(a, stamp(s), m),
+                None => *m = AxisState::default(),
             },
         )?;
     }
@@ -179,10 +196,74 @@ mod tests {
         snap.state.axes[0].act_velo = -100.0;
         snap.state.axes[1].act_pos = 90.0;
         snap.state.axes[1].act_velo = 180.0;
-        let js = joint_state(&snap, &[JointType::Prismatic, JointType::Revolute]);
-        assert_eq!(js.name, ["x", "t"]);
-        assert!((js.position[0] - 0.25).abs() < 1e-12 && (js.velocity[0] + 0.1).abs() < 1e-12);
-        let pi = std::f64::consts::PI;
-        assert!((js.position[1] - pi / 2.0).abs() < 1e-12 && (js.velocity[1] - pi).abs() < 1e-12);
+        let joints = [JointType::Prismatic, JointType::Revolute];
+        // A fresh message, and one refilled from another node's (other names, longer arrays,
+        // an effort and a frame): the same message.
+        let mut fresh = JointState::default();
+        joint_state_into(&snap, &joints, &mut fresh);
+        let mut old = JointState {
+            header: Header {
+                stamp: Time { sec: 7, nanosec: 7 },
+                frame_id: "old".into(),
+            },
+            name: vec!["a".into(), "b".into(), "c".into()],
+            position: vec![1.0; 3],
+            velocity: vec![2.0; 3],
+            effort: vec![3.0; 3],
+        };
+        joint_state_into(&snap, &joints, &mut old);
+        for js in [&fresh, &old] {
+            assert_eq!(js.name, ["x", "t"]);
+            assert!(js.header.frame_id.is_empty() && js.effort.is_empty());
+            assert_eq!(js.header.stamp, stamp(&snap));
+            assert_eq!((js.position.len(), js.velocity.len()), (2, 2));
+            assert!((js.position[0] - 0.25).abs() < 1e-12 && (js.velocity[0] + 0.1).abs() < 1e-12);
+            let pi = std::f64::consts::PI;
+            assert!(
+                (js.position[1] - pi / 2.0).abs() < 1e-12 && (js.velocity[1] - pi).abs() < 1e-12
+            );
+        }
+    }
+
+    /// A refilled `~/axis_states` (and so each `~/axes/<axis>/state`) equals a fresh one,
+    /// also when refilled from a message of more, other axes.
+    #[test]
+    fn refilled_axis_states_equal_fresh_ones() {
+        let e = |names: &[&str]| {
+            AxisEngine::new(
+                names
+                    .iter()
+                    .map(|n| (n.to_string(), Default::default()))
+                    .collect(),
+            )
+            .unwrap()
+        };
+        let mut snap = Stamped {
+            cycle: 3,
+            sim_time: 0.003,
+            ros_time_ns: 3_000_000,
+            state: e(&["x", "y"]).snapshot(),
+        };
+        snap.state.axes[1].act_pos = 12.5;
+        snap.state.axes[1].ext.encoder_increments = 99;
+        let mut fresh = AxisStateArray::default();
+        axis_state_array_into(&snap, &mut fresh);
+        let other = Stamped {
+            cycle: 9,
+            sim_time: 0.009,
+            ros_time_ns: 9_000_000,
+            state: e(&["longer_name", "b", "c"]).snapshot(),
+        };
+        let mut refilled = AxisStateArray::default();
+        axis_state_array_into(&other, &mut refilled);
+        refilled.axes[1].home_cam = true;
+        axis_state_array_into(&snap, &mut refilled);
+        assert_eq!(refilled, fresh);
+        assert_eq!(fresh.axes.len(), 2);
+        assert_eq!(
+            (fresh.axes[1].name.as_str(), fresh.axes[1].act_pos),
+            ("y", 12.5)
+        );
+        assert_eq!(fresh.axes[1], axis_state(&snap.state.axes[1], stamp(&snap)));
     }
 }

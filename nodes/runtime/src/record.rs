@@ -471,11 +471,14 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
     /// `msg` (waiting for the writer only as [`RecordedTopic::take`] says) and logs it to the
     /// live feed; returns it when it is to be written to DDS too.
     pub fn record(&self, msg: M, stamp_ns: i64) -> Option<M> {
-        self.topic.take(&msg, stamp_ns);
-        if RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
-            return None;
-        }
-        Some(msg)
+        self.record_ref(&msg, stamp_ns).then_some(msg)
+    }
+
+    /// [`RecordedPublisher::record`] of a borrowed message: true when it is to be written to
+    /// DDS too (the caller then hands it over; a record-only run keeps it for a refill).
+    pub fn record_ref(&self, msg: &M, stamp_ns: i64) -> bool {
+        self.topic.take(msg, stamp_ns);
+        !RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// True when a message would go anywhere: DDS, the recording or the live feed (a state

@@ -233,26 +233,33 @@ type StreamReader<E> = Box<dyn FnMut(&StreamItemOf<E>) -> Option<StreamWork> + S
 /// An item of an engine's state stream.
 type StreamItemOf<E> = crate::cycle::StreamItem<<E as Engine>::Snapshot>;
 
-/// A topic published from the state stream: `build` makes its message of each streamed
-/// snapshot, which is recorded at once; the returned work writes it to DDS (none in a
-/// record-only run: no future is made per topic and cycle).
+/// A topic published from the state stream: `fill` writes its message of each streamed
+/// snapshot into the message of the cycle before (kept while nothing takes it away, as in a
+/// record-only run: a message of every cycle allocates nothing then), which is recorded at once;
+/// the returned work writes it to DDS (none in a record-only run: no future is made per topic
+/// and cycle).
 fn stream_topic<E, M>(
     publisher: RecordedPublisher<M>,
-    build: impl Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
+    fill: impl Fn(&Stamped<E::Snapshot>, &mut M) + Send + Sync + 'static,
 ) -> StreamReader<E>
 where
     E: Engine,
-    M: serde::Serialize + motion_msgs::RosType + fmt::Debug + Send + Sync + 'static,
+    M: serde::Serialize + motion_msgs::RosType + Default + fmt::Debug + Send + Sync + 'static,
 {
     // Every streamed cycle's message is recorded (the stream, and so the cycle, waits).
     let publisher = Arc::new(publisher.lossless());
+    let mut kept = M::default();
     Box::new(move |item| {
         if !publisher.wanted() {
             // A run that records other topics only: not even built.
             return None;
         }
         let snap = &item.state;
-        let msg = publisher.record(build(snap), snap.ros_time_ns)?;
+        fill(snap, &mut kept);
+        if !publisher.record_ref(&kept, snap.ros_time_ns) {
+            return None;
+        }
+        let msg = std::mem::take(&mut kept);
         let publisher = publisher.clone();
         Some(Box::pin(async move {
             if let Err(e) = publisher.publish_dds(msg).await {
@@ -678,8 +685,8 @@ where
         if self.settings.state_stream {
             // Every streamed cycle's time, in the stream's order (no wake-up per snapshot).
             self.streams
-                .push(stream_topic::<E, _>(publisher, |snap| Clock {
-                    clock: stamp_ns(snap.ros_time_ns),
+                .push(stream_topic::<E, _>(publisher, |snap, m: &mut Clock| {
+                    m.clock = stamp_ns(snap.ros_time_ns);
                 }));
             return Ok(());
         }
@@ -1097,8 +1104,24 @@ where
         build: F,
     ) -> Result<(), ShellError>
     where
-        M: Message + motion_msgs::RosType + fmt::Debug + Send + Sync + 'static,
+        M: Message + motion_msgs::RosType + Default + fmt::Debug + Send + Sync + 'static,
         F: Fn(&Stamped<E::Snapshot>) -> M + Send + Sync + 'static,
+    {
+        self.state_publisher_refill(topic, type_name, move |s, m: &mut M| *m = build(s))
+    }
+
+    /// [`NodeShell::state_publisher`] whose `fill` writes every field of the message it is
+    /// given: an earlier cycle's message (or a default one), so that a stream of every cycle
+    /// reuses the message's memory (names, arrays) instead of allocating it again.
+    pub fn state_publisher_refill<M, F>(
+        &mut self,
+        topic: &str,
+        type_name: MessageTypeName,
+        fill: F,
+    ) -> Result<(), ShellError>
+    where
+        M: Message + motion_msgs::RosType + Default + fmt::Debug + Send + Sync + 'static,
+        F: Fn(&Stamped<E::Snapshot>, &mut M) + Send + Sync + 'static,
     {
         let name = resolve_name(&self.settings, topic)?;
         let t = self
@@ -1112,7 +1135,7 @@ where
         let publisher = RecordedPublisher::new(publisher, name);
         if self.settings.state_stream {
             // Every streamed cycle, in order (see `spawn_state_stream`).
-            self.streams.push(stream_topic::<E, _>(publisher, build));
+            self.streams.push(stream_topic::<E, _>(publisher, fill));
             return Ok(());
         }
         let handle = self.handle.clone();
@@ -1128,7 +1151,9 @@ where
                     continue;
                 }
                 last = snap.cycle;
-                if let Err(e) = publisher.publish(build(&snap), snap.ros_time_ns).await {
+                let mut msg = M::default();
+                fill(&snap, &mut msg);
+                if let Err(e) = publisher.publish(msg, snap.ros_time_ns).await {
                     tracing::warn!("state publish failed: {e:?}");
                 }
             }
