@@ -149,7 +149,10 @@ fn floor(file: &std::path::Path, cycles: u64) -> (f64, f64, f64) {
     rec.finish().expect("closed");
     let writer = t0.elapsed().as_secs_f64();
     let t0 = Instant::now();
-    let mut f = std::io::BufWriter::new(std::fs::File::create(&out).expect("floor file"));
+    let mut f = std::io::BufWriter::with_capacity(
+        motion_runtime::record::WRITE_BUFFER,
+        std::fs::File::create(&out).expect("floor file"),
+    );
     for (_, _, _, data) in &messages {
         f.write_all(data).expect("written");
     }
