@@ -54,9 +54,10 @@ pub enum RecordError {
     },
 }
 
-/// Bytes gathered before they go to the file: whole pages in large writes, so that the kernel
-/// neither zeroes a page it is about to fill nor runs a write call per 8 KB (about a fifth of
-/// the recording thread's time with the default buffer, perf on a `--cycles` run).
+/// Bytes gathered before they go to the file: one write call per MiB instead of per 8 KB (the
+/// default), mostly whole pages. Measured by `bench lockstep` on the 2-core VM: the recording's
+/// bytes written to a plain file went from about 130x to 190x real time, the node recording
+/// every topic from about 112x to 135x.
 pub const WRITE_BUFFER: usize = 1 << 20;
 
 /// Where a recording goes: a file, or a pipe that cannot seek, for which the position the MCAP
