@@ -132,7 +132,7 @@ pub struct WorkpieceSnapshot {
 }
 
 /// One belt.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BeltSnapshot {
     /// Belt number 1 … 16.
     pub belt: u8,
@@ -179,7 +179,7 @@ pub struct ProfileSnapshot {
 }
 
 /// The engine state as published.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PickPlaceSnapshot {
     /// Cycle counter (last step's tick index).
     pub cycle: u64,

@@ -75,10 +75,6 @@ impl Engine for PickPlaceEngine {
         self.make_snapshot()
     }
 
-    fn snapshot_into(&self, out: &mut PickPlaceSnapshot) {
-        self.fill_snapshot(out);
-    }
-
     fn cancel(&mut self, id: CmdId) -> Result<(), Rejection> {
         // A resume edge's id stands for the held profile it resumed.
         let id = self

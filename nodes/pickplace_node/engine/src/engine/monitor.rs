@@ -180,55 +180,33 @@ impl PickPlaceEngine {
     }
 
     pub(super) fn make_snapshot(&self) -> PickPlaceSnapshot {
-        let mut s = PickPlaceSnapshot::default();
-        self.fill_snapshot(&mut s);
-        s
-    }
-
-    /// [`Self::make_snapshot`] written into `out`, which holds an earlier one: every field is
-    /// written (the pattern names them all), the belts' workpiece lists keep their memory (a
-    /// lockstep stream takes a snapshot every cycle).
-    pub(super) fn fill_snapshot(&self, out: &mut PickPlaceSnapshot) {
-        let PickPlaceSnapshot {
-            cycle,
-            time,
-            state,
-            tcp,
-            tcp_velocity,
-            gripper_closed,
-            held_workpiece,
-            belts,
-            active_profile,
-            queued_profiles,
-            outputs,
-        } = out;
-        belts.resize_with(self.belts.len(), BeltSnapshot::default);
-        for ((i, b), s) in self.belts.iter().enumerate().zip(belts.iter_mut()) {
-            let BeltSnapshot {
-                belt,
-                configured,
-                position,
-                velocity,
-                workpieces,
-            } = s;
-            *belt = (i + 1) as u8;
-            *configured = b.par.is_configured();
-            *position = b.axis.position;
-            *velocity = b.axis.velocity;
-            workpieces.clear();
-            workpieces.extend(b.workpieces.iter().map(|w| {
-                let pb = w.belt_position(b.axis.position);
-                let pm = b.frame().to_mcs(pb);
-                WorkpieceSnapshot {
-                    id: w.id,
-                    visible: visible(w.state),
-                    reserved: w.reserved,
-                    belt_position: [pb.x, pb.y, pb.z],
-                    mcs_position: [pm.x, pm.y, pm.z],
-                }
-            }));
-        }
-        *active_profile = self.running.as_deref().map(|r| {
+        let belts = self
+            .belts
+            .iter()
+            .enumerate()
+            .map(|(i, b)| BeltSnapshot {
+                belt: (i + 1) as u8,
+                configured: b.par.is_configured(),
+                position: b.axis.position,
+                velocity: b.axis.velocity,
+                workpieces: b
+                    .workpieces
+                    .iter()
+                    .map(|w| {
+                        let pb = w.belt_position(b.axis.position);
+                        let pm = b.frame().to_mcs(pb);
+                        WorkpieceSnapshot {
+                            id: w.id,
+                            visible: visible(w.state),
+                            reserved: w.reserved,
+                            belt_position: [pb.x, pb.y, pb.z],
+                            mcs_position: [pm.x, pm.y, pm.z],
+                        }
+                    })
+                    .collect(),
+            })
+            .collect();
+        let active_profile = self.running.as_deref().map(|r| {
             let (phase, sigma, length, coupling, workpiece) = match &r.phase {
                 Phase::Path {
                     run,
@@ -261,14 +239,18 @@ impl PickPlaceEngine {
                 workpiece,
             }
         });
-        *cycle = self.cycle;
-        *time = self.time;
-        *state = self.state;
-        *tcp = self.pose;
-        *tcp_velocity = self.vel;
-        *gripper_closed = self.gripper_closed;
-        *held_workpiece = self.held_workpiece.map(|(_, id)| id);
-        *queued_profiles = self.queue.len();
-        *outputs = self.outputs();
+        PickPlaceSnapshot {
+            cycle: self.cycle,
+            time: self.time,
+            state: self.state,
+            tcp: self.pose,
+            tcp_velocity: self.vel,
+            gripper_closed: self.gripper_closed,
+            held_workpiece: self.held_workpiece.map(|(_, id)| id),
+            belts,
+            active_profile,
+            queued_profiles: self.queue.len(),
+            outputs: self.outputs(),
+        }
     }
 }
