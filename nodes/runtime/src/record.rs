@@ -103,9 +103,14 @@ impl Recording {
     pub fn create(path: &Path) -> Result<Self, RecordError> {
         let file = File::create(path)?;
         let seekable = file.metadata()?.is_file();
-        let sink = Sink {
+        let out = if seekable {
+            BufWriter::with_capacity(WRITE_BUFFER, file)
+        } else {
             // A pipe keeps the small default: a reader gets each chunk once it is whole.
-            out: BufWriter::with_capacity(if seekable { WRITE_BUFFER } else { 8 << 10 }, file),
+            BufWriter::new(file)
+        };
+        let sink = Sink {
+            out,
             position: 0,
             seekable,
         };
