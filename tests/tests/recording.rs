@@ -37,6 +37,7 @@ class Factory(DecoderFactory):
 count = Counter()
 joints = set()
 feedback = None
+params = {}
 with open(sys.argv[1], 'rb') as f:
     r = make_reader(f, decoder_factories=[Factory()])
     print('profile', r.get_header().profile)
@@ -47,9 +48,16 @@ with open(sys.argv[1], 'rb') as f:
             joints.update(m.name)
         if channel.topic.endswith('/_action/feedback'):
             feedback = (bytes(m.goal_id.uuid).hex(), m.feedback.position)
+        if channel.topic == '/parameter_events':
+            for p in m.new_parameters:
+                v = p.value
+                value = [None, v.bool_value, v.integer_value, v.double_value, v.string_value][v.type] if v.type <= 4 else v.type
+                params.setdefault(m.node, []).append(f'{p.name}={value}')
 for (topic, ty), n in sorted(count.items()):
     print(topic, ty, n)
 print('joints', ' '.join(sorted(joints)))
+for node, ps in sorted(params.items()):
+    print('parameters', node, ' '.join(ps))
 if feedback:
     print('feedback', feedback[0], feedback[1])
 "#
@@ -179,6 +187,8 @@ fn the_demo_records_every_state_topic_to_mcap() {
         ("/tf_static", "tf2_msgs/msg/TFMessage", 3),
         // Each node's "node started" line at least.
         ("/rosout", "rcl_interfaces/msg/Log", 3),
+        // Each node's declaration of its parameters.
+        ("/parameter_events", "rcl_interfaces/msg/ParameterEvent", 3),
     ] {
         let n = count(topic, ty);
         assert!(
@@ -187,6 +197,25 @@ fn the_demo_records_every_state_topic_to_mcap() {
         );
     }
     assert!(got.contains("joints table x y"), "{got}");
+    // The declarations carry the launch config's settings (demo.yaml: the axis node cycles
+    // every 1 ms and publishes at 100 Hz; the planar node's movers).
+    let parameters = |node: &str| -> Vec<&str> {
+        got.lines()
+            .find_map(|l| l.strip_prefix(&format!("parameters {node} ")))
+            .map(|l| l.split(' ').collect())
+            .unwrap_or_default()
+    };
+    let axis = parameters("/axis_node");
+    for p in ["cycle_period=0.001", "state_rate=100.0", "lockstep=False"] {
+        assert!(axis.contains(&p), "/axis_node declared {axis:?}:\n{got}");
+    }
+    assert!(
+        parameters("/planar_node")
+            .iter()
+            .any(|p| p.starts_with("movers=")),
+        "{got}"
+    );
+    assert!(!parameters("/pickplace_node").is_empty(), "{got}");
 }
 
 #[test]
@@ -503,7 +532,9 @@ with open(sys.argv[1], "rb") as f:
     for schema, channel, message, ros in make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages():
         h = digests.setdefault(channel.topic, hashlib.sha256())
         h.update(message.log_time.to_bytes(8, "little"))
-        h.update(message.data)
+        # A parameter event without its stamp (the CDR header's 4 bytes, then the Time's 8):
+        # the node stamps it with the system time at its creation.
+        h.update(message.data[12:] if channel.topic == "/parameter_events" else message.data)
         counts[channel.topic] = counts.get(channel.topic, 0) + 1
         if channel.topic == "/axis_node/axis_states":
             last["x"] = max(last.get("x", 0.0), [a.set_pos for a in ros.axes if a.name == "x"][0])
@@ -518,7 +549,8 @@ print("max x", last.get("x"), "last m2", last.get("m2"))
 /// itself) recorded twice gives the same messages, bit for bit (stamps included), on every
 /// channel but those paced by the wall clock: `/diagnostics` and `~/cycle_stats` (measured
 /// execution times, 1 Hz) and `/rosout` (stamped with the system time, as rcl does; at this
-/// log level empty anyway). The axis node's `~/events` (the script's acknowledgements,
+/// log level empty anyway). `/parameter_events` (each node's declaration, stamped with the
+/// system time at its creation) is compared without its stamp. The axis node's `~/events` (the script's acknowledgements,
 /// plcopen_platform.md §12.1) and `/clock` are among the equal ones: in a stream they follow
 /// the cycles, not the wall clock.
 #[test]

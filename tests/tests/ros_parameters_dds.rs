@@ -135,3 +135,67 @@ async fn parameter_services_with_the_enhanced_mapping() {
     require_netns();
     parameters_over(ServiceMapping::Enhanced).await;
 }
+
+/// A node announces its declared parameters on `/parameter_events` as new parameters, as
+/// rclcpp and rclpy announce each declaration (vendored ros2-client patch 9). The writer is
+/// transient-local (depth 1), so a reader that joins after the node started, as here, still
+/// gets the declaration: the node's full name and the launch config's values.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn declared_parameters_are_announced_on_parameter_events() {
+    use futures::StreamExt;
+    use motion_msgs::deps::rcl_interfaces::msg::ParameterEvent;
+    use ros2_client::qos::{Durability, History, QosProfile};
+    use ros2_client::MessageTypeName;
+    require_netns();
+    let domain = unique_domain();
+    let node = system_tests::flood::axis_node_with(domain, ServiceMapping::Enhanced);
+    let mut c = ClientNode::new(domain, "param_events_client", ServiceMapping::Enhanced);
+    // rcl's parameter-events profile asks volatile; transient-local is what a late reader needs.
+    let qos = QosProfile::publisher_default()
+        .durability(Durability::TransientLocal)
+        .history(History::KeepLast { depth: 100 });
+    let topic = c
+        .node
+        .create_topic(
+            &ClientNode::name("/parameter_events"),
+            MessageTypeName::new("rcl_interfaces", "ParameterEvent"),
+            &qos,
+        )
+        .expect("topic");
+    let sub = c
+        .node
+        .create_subscription::<ParameterEvent>(&topic, None)
+        .expect("subscription");
+    let event = within(10.0, "the axis node's parameter event", async {
+        let mut events = Box::pin(sub.async_stream());
+        loop {
+            let (e, _) = events.next().await.unwrap().expect("read");
+            if e.node == "/axis_node" {
+                return e;
+            }
+        }
+    })
+    .await;
+    assert!(event.changed_parameters.is_empty() && event.deleted_parameters.is_empty());
+    let value = |name: &str| {
+        let p = event.new_parameters.iter().find(|p| p.name == name);
+        p.unwrap_or_else(|| panic!("{name} not announced: {event:?}"))
+            .value
+            .clone()
+    };
+    // ParameterType: DOUBLE 3, BOOL 1, STRING_ARRAY 9.
+    let cycle_period = value("cycle_period");
+    assert_eq!((cycle_period.r#type, cycle_period.double_value), (3, 0.001));
+    let lockstep = value("lockstep");
+    assert_eq!((lockstep.r#type, lockstep.bool_value), (1, true));
+    let axes = value("axes");
+    assert_eq!(
+        (axes.r#type, axes.string_array_value),
+        (9, vec!["x".into()])
+    );
+    assert!(
+        event.stamp.sec > 0,
+        "stamped with the system time: {event:?}"
+    );
+    drop(node);
+}

@@ -394,6 +394,17 @@ pub fn action_server_qos() -> ActionServerQosPolicies {
     }
 }
 
+/// `/parameter_events` as the recording and the live feed see it (one topic for every node).
+fn parameter_events_topic() -> &'static crate::record::RecordedTopic {
+    static TOPIC: std::sync::OnceLock<crate::record::RecordedTopic> = std::sync::OnceLock::new();
+    TOPIC.get_or_init(|| {
+        crate::record::RecordedTopic::new(
+            "/parameter_events",
+            motion_msgs::deps::rcl_interfaces::msg::ParameterEvent::ROS_TYPE_NAME,
+        )
+    })
+}
+
 impl<E: Engine> NodeShell<E>
 where
     E::Command: Send,
@@ -419,6 +430,12 @@ where
                 .describe_parameter(&n, crate::host::parameter_description(&n), true)
                 .declare_parameter(&n, v);
         }
+        // `/parameter_events` (the declaration at creation, as rclcpp announces it) into the
+        // recording and the live feed too: a recorded run carries the node's settings.
+        let now = ros_now(&handle);
+        opts = opts.parameter_event_observer(Box::new(move |event| {
+            parameter_events_topic().take(event, now())
+        }));
         let ro = read_only.clone();
         // Declaration goes through the validator too: refuse changes only once the node runs.
         let running = Arc::new(std::sync::atomic::AtomicBool::new(false));

@@ -151,17 +151,26 @@ struct ParameterServers {
     Server<rcl_interfaces::DescribeParametersRequest, rcl_interfaces::DescribeParametersResponse>,
 }
 
-/// Publish `changes` as a `ParameterEvent`, unless there are none.
-fn publish_parameter_changes(
-  writer: &Publisher<raw::ParameterEvent>,
-  changes: ParameterChanges,
-  stamp: ROSTime,
-  node: String,
-) {
-  if !changes.is_empty() {
-    writer
-      .publish(changes.into_event(stamp.into(), node))
-      .unwrap_or_else(|e| warn!("ParameterEvent publish error: {e:?}"));
+/// `/parameter_events`: the writer and (motion-suite patch) who sees each event
+/// before it is written.
+struct ParameterEvents {
+  writer: Publisher<raw::ParameterEvent>,
+  observer: Option<crate::node_options::ParameterEventObserver>,
+}
+
+impl ParameterEvents {
+  /// Publish `changes` as a `ParameterEvent`, unless there are none.
+  fn publish(&self, changes: ParameterChanges, stamp: ROSTime, node: String) {
+    if !changes.is_empty() {
+      let event = changes.into_event(stamp.into(), node);
+      if let Some(observe) = &self.observer {
+        observe(&event);
+      }
+      self
+        .writer
+        .publish(event)
+        .unwrap_or_else(|e| warn!("ParameterEvent publish error: {e:?}"));
+    }
   }
 }
 
@@ -187,7 +196,7 @@ pub struct Spinner {
   clock_topic: Topic,
 
   parameter_servers: Option<ParameterServers>,
-  parameter_events_writer: Arc<Publisher<raw::ParameterEvent>>,
+  parameter_events: Arc<ParameterEvents>,
   parameters: Arc<ParameterStore>,
   fully_qualified_node_name: String,
 }
@@ -495,8 +504,7 @@ impl Spinner {
   }
 
   fn publish_parameter_changes(&self, changes: ParameterChanges) {
-    publish_parameter_changes(
-      &self.parameter_events_writer,
+    self.parameter_events.publish(
       changes,
       self.time_now(),
       self.fully_qualified_node_name.clone(),
@@ -600,7 +608,7 @@ pub struct Node {
 
   // Parameter events (rcl_interfaces)
   // Parameter Services are inside Spinner
-  parameter_events_writer: Arc<Publisher<raw::ParameterEvent>>,
+  parameter_events: Arc<ParameterEvents>,
 
   // Parameter values and rules, shared with the Spinner.
   parameters: Arc<ParameterStore>,
@@ -632,6 +640,7 @@ impl Node {
     )
     .map_err(NodeCreateError::BadParameter)?;
     parameters.set_descriptions(options.parameter_descriptions.clone());
+    let parameter_event_observer = options.parameter_event_observer.take();
 
     let mut node = Node {
       node_name,
@@ -648,7 +657,10 @@ impl Node {
       status_event_senders: Arc::new(Mutex::new(Vec::new())),
       rosout_writer: Arc::new(None), // Set below
       rosout_reader: None,
-      parameter_events_writer: Arc::new(parameter_events_writer),
+      parameter_events: Arc::new(ParameterEvents {
+        writer: parameter_events_writer,
+        observer: parameter_event_observer,
+      }),
       parameters: Arc::new(parameters),
       sim_time: Arc::new(Mutex::new(ROSTime::ZERO)),
     };
@@ -670,6 +682,19 @@ impl Node {
     };
 
     node.suppress_node_info_updates(false);
+
+    // motion-suite patch: the declared parameters are announced on
+    // `/parameter_events` as new parameters, as rclcpp and rclpy announce each
+    // declaration (here one event: they are declared together).
+    let declared = ParameterChanges {
+      new_parameters: (node.options.declared_parameters.iter())
+        .map(|p| raw::Parameter::from(p.clone()))
+        .collect(),
+      ..ParameterChanges::default()
+    };
+    node
+      .parameter_events
+      .publish(declared, node.time_now(), node.fully_qualified_name());
 
     Ok(node)
   }
@@ -794,7 +819,7 @@ impl Node {
       sim_time: Arc::clone(&self.sim_time),
       clock_topic,
       parameter_servers,
-      parameter_events_writer: Arc::clone(&self.parameter_events_writer),
+      parameter_events: Arc::clone(&self.parameter_events),
       parameters: Arc::clone(&self.parameters),
       fully_qualified_node_name: self.fully_qualified_name(),
     })
@@ -812,7 +837,7 @@ impl Node {
   fn generate_node_info(&self) -> NodeEntitiesInfo {
     let mut node_info = NodeEntitiesInfo::new(self.node_name.clone());
 
-    node_info.add_writer(Gid::from(self.parameter_events_writer.guid()));
+    node_info.add_writer(Gid::from(self.parameter_events.writer.guid()));
     if let Some(ref row) = *self.rosout_writer {
       node_info.add_writer(Gid::from(row.guid()));
     }
@@ -908,12 +933,9 @@ impl Node {
   }
 
   fn publish_parameter_changes(&self, changes: ParameterChanges) {
-    publish_parameter_changes(
-      &self.parameter_events_writer,
-      changes,
-      self.time_now(),
-      self.fully_qualified_name(),
-    );
+    self
+      .parameter_events
+      .publish(changes, self.time_now(), self.fully_qualified_name());
   }
 
   // ///////////////////////////////////////////////////

@@ -23,6 +23,12 @@ use crate::parameters::{Parameter, ParameterValue, SetParametersResult};
 /// `debug` level if set).
 pub(crate) type ParameterFunc = dyn Fn(&str, &ParameterValue) -> SetParametersResult + Send + Sync;
 
+/// motion-suite patch: sees each `ParameterEvent` the node publishes, just
+/// before it is written (e.g. for a recording of `/parameter_events`; see
+/// [`NodeOptions::parameter_event_observer`]).
+pub type ParameterEventObserver =
+  Box<dyn Fn(&crate::parameters::raw::ParameterEvent) + Send + Sync>;
+
 /// Configuration of a [`Node`](crate::Node). This is a builder-like struct.
 ///
 /// The NodeOptions struct does not contain
@@ -43,6 +49,8 @@ pub struct NodeOptions {
   pub(crate) parameter_service_mapping: crate::ServiceMapping,
   pub(crate) parameter_descriptions:
     std::collections::BTreeMap<String, crate::parameters::ParameterDescription>,
+  // motion-suite patch: sees each published ParameterEvent.
+  pub(crate) parameter_event_observer: Option<ParameterEventObserver>,
 }
 
 impl NodeOptions {
@@ -61,6 +69,7 @@ impl NodeOptions {
       #[cfg(feature = "dds")]
       parameter_service_mapping: crate::ServiceMapping::Enhanced,
       parameter_descriptions: std::collections::BTreeMap::new(),
+      parameter_event_observer: None,
     }
   }
 
@@ -88,6 +97,15 @@ impl NodeOptions {
     );
     self
   }
+
+  /// (motion-suite patch) `observer` sees each `ParameterEvent` the node
+  /// publishes on `/parameter_events`, just before it is written: the
+  /// declaration of the declared parameters at creation, and every change.
+  pub fn parameter_event_observer(mut self, observer: ParameterEventObserver) -> NodeOptions {
+    self.parameter_event_observer = Some(observer);
+    self
+  }
+
   pub fn enable_rosout(self, enable_rosout: bool) -> NodeOptions {
     NodeOptions {
       enable_rosout,
