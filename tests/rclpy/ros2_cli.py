@@ -3,7 +3,7 @@
 
   ros2 service call NAME TYPE [VALUES]              one request, prints the response
   ros2 action send_goal [--feedback] NAME TYPE [VALUES]   one goal, waits for its result
-  ros2 topic echo NAME                              prints one message and exits (as --once)
+  ros2 topic echo [--once] [--qos-durability D] NAME   prints one message and exits (as --once)
 
 VALUES is YAML, as for ros2cli. Output follows ros2cli's wording ("response:", "Goal finished
 with status: SUCCEEDED"). Exit 0 when the call went through, 1 on a timeout or a bad line.
@@ -14,6 +14,7 @@ import sys
 import time
 
 import rclpy
+import rclpy.qos
 import yaml
 from rclpy.action import ActionClient
 
@@ -76,7 +77,7 @@ def send_goal(node, name, type_name, values, feedback):
     print(f"Goal finished with status: {STATUS.get(result.status, result.status)}")
 
 
-def topic_echo(node, name):
+def topic_echo(node, name, durability="volatile"):
     deadline = time.monotonic() + TIMEOUT
     type_name = None
     while type_name is None:
@@ -88,7 +89,9 @@ def topic_echo(node, name):
         else:
             rclpy.spin_once(node, timeout_sec=0.1)
     got = []
-    node.create_subscription(msg_type(type_name), name, got.append, 10)
+    qos = rclpy.qos.QoSProfile(
+        depth=10, durability=rclpy.qos.DurabilityPolicy.get_from_short_key(durability))
+    node.create_subscription(msg_type(type_name), name, got.append, qos)
     while not got:
         if time.monotonic() > deadline:
             raise TimeoutError(f"no message on {name}")
@@ -112,7 +115,13 @@ def main(argv):
             args = [a for a in args if a != "--feedback"]
             send_goal(node, args[0], args[1], yaml.safe_load(args[2]) if len(args) > 2 else {}, feedback)
         elif verb == ["topic", "echo"]:
-            topic_echo(node, args[0])
+            durability = "volatile"
+            if "--qos-durability" in args:
+                i = args.index("--qos-durability")
+                durability = args[i + 1]
+                del args[i:i + 2]
+            args = [a for a in args if a != "--once"]
+            topic_echo(node, args[0], durability)
         else:
             print(f"ros2 {' '.join(verb)}: not supported by this stand-in", file=sys.stderr)
             return 1
