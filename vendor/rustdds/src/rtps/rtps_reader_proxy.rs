@@ -79,6 +79,9 @@ pub(crate) struct RtpsReaderProxy {
   // sends one ACKNACK to each of our locators; the copies carry the same count.
   pub last_acknack_count: Option<i32>,
   pub last_nackfrag_count: Option<i32>,
+  // motion-suite patch 10: ACKNACKs accepted from this reader. Below 2 it has not
+  // answered a HEARTBEAT of ours yet (the first is typically its pre-emptive one).
+  pub acknacks_received: u32,
   qos: QosPolicies,
   frags_requested: BTreeMap<SequenceNumber, BitVec>,
 
@@ -115,6 +118,7 @@ impl RtpsReaderProxy {
       repair_frags_scheduled: false,
       last_acknack_count: None,
       last_nackfrag_count: None,
+      acknacks_received: 0,
       qos,
       frags_requested: BTreeMap::new(),
       send_route: SendRoute::default(),
@@ -244,6 +248,7 @@ impl RtpsReaderProxy {
       repair_frags_scheduled: false,
       last_acknack_count: None,
       last_nackfrag_count: None,
+      acknacks_received: 0,
       qos: reader.qos_policy.clone(),
       frags_requested: BTreeMap::new(),
       send_route: SendRoute::default(),
@@ -322,6 +327,7 @@ impl RtpsReaderProxy {
       repair_frags_scheduled: false,
       last_acknack_count: None,
       last_nackfrag_count: None,
+      acknacks_received: 0,
       qos: discovered_reader_data.subscription_topic_data.qos(),
       frags_requested: BTreeMap::new(),
       send_route: SendRoute::default(),

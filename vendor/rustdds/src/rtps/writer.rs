@@ -529,10 +529,12 @@ impl Writer {
       }
       TimedEvent::HeartbeatToNewReader { reader, left } => {
         let last = self.send_buffer.last_change_sequence_number();
+        // motion-suite patch 10: also while the reader has not answered a HEARTBEAT of
+        // ours yet, though it lacks nothing (see `handle_ack_nack`).
         let behind = self
           .readers
           .get(&reader)
-          .is_some_and(|rp| rp.all_acked_before <= last);
+          .is_some_and(|rp| rp.all_acked_before <= last || rp.acknacks_received < 2);
         if behind {
           self.heartbeat_to_reader(reader);
           if left > 1 {
@@ -1243,6 +1245,7 @@ impl Writer {
             return;
           }
           reader_proxy.last_acknack_count = Some(an.count);
+          reader_proxy.acknacks_received = reader_proxy.acknacks_received.saturating_add(1);
 
           // Mark requested SNs as "unsent changes"
 
@@ -1302,6 +1305,7 @@ impl Writer {
         }
 
         // See if we need to respond by GAP message
+        let (mut heartbeat_now, mut first) = (false, false);
         if let Some(reader_proxy) = self.readers.get(&reader_guid) {
           if !reader_proxy.get_pending_gap().is_empty() {
             let gap_message = MessageBuilder::new()
@@ -1323,27 +1327,28 @@ impl Writer {
           // everything means the reader does not know what we have, typically a
           // preemptive ACKNACK from a reader that matched us after our HEARTBEAT.
           // Answer now instead of at the next heartbeat period.
-          if an.reader_sn_state.iter().next().is_none() && reader_proxy.all_acked_before <= last_seq
-          {
-            let hb_message = MessageBuilder::new()
-              .ts_msg(self.endianness, Some(Timestamp::now()))
-              .heartbeat_msg(
-                self.entity_id(),
-                self.send_buffer.first_change_sequence_number(),
-                last_seq,
-                self.next_heartbeat_count(),
-                self.endianness,
-                reader_guid.entity_id,
-                false, // final_flag: request ACKNACK
-                false, // liveliness_flag
-              )
-              .add_header_and_build(self.my_guid.prefix);
-            self.send_control_to_readers(
-              DeliveryMode::Unicast,
-              hb_message,
-              &mut std::iter::once(reader_proxy),
-            );
-          }
+          // motion-suite patch 10: answer a reader's first ACKNACK also when it lacks
+          // nothing. It is the first sign that the reader knows us (our HEARTBEATs
+          // at the match may have come before), and a volatile Cyclone reader takes
+          // everything up to the last of the first HEARTBEAT it accepts as history:
+          // if that is the one after our next sample and a fragment of that sample
+          // was lost, the sample is acknowledged unrepaired and dropped.
+          first = reader_proxy.acknacks_received == 1;
+          heartbeat_now = an.reader_sn_state.iter().next().is_none()
+            && (reader_proxy.all_acked_before <= last_seq || first);
+        }
+        if heartbeat_now {
+          self.heartbeat_to_reader(reader_guid);
+        }
+        if heartbeat_now && first {
+          // Again 20 and 80 ms later while it has not answered (lost on the way).
+          self.schedule_timed_event(
+            crate::rtps::constant::new_match_repeat_delay(2),
+            TimedEvent::HeartbeatToNewReader {
+              reader: reader_guid,
+              left: 2,
+            },
+          );
         }
       } // AckNack
       AckSubmessage::NackFrag(ref nackfrag) => {
@@ -3131,6 +3136,40 @@ mod tests {
         .reader_events(StdDuration::from_millis(50))
         .iter()
         .all(|event| !matches!(event, TimedEvent::SendRepairFrags { .. })));
+    }
+
+    // motion-suite patch 10: a reader's first ACKNACK is answered with a HEARTBEAT
+    // even when the writer holds nothing (a volatile Cyclone reader takes the first
+    // HEARTBEAT it accepts as the start of its history); a later one that requests
+    // nothing is not (no HEARTBEAT/ACKNACK ping-pong).
+    #[test]
+    fn the_first_acknack_of_a_reader_is_answered_with_a_heartbeat() {
+      let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+      socket
+        .set_read_timeout(Some(StdDuration::from_millis(300)))
+        .unwrap();
+      let mut f = Fixture::user(0, 8, Some(socket.local_addr().unwrap()));
+      let heartbeats = |socket: &std::net::UdpSocket| {
+        let mut buf = [0u8; 65536];
+        let mut found = Vec::new();
+        while let Ok(n) = socket.recv(&mut buf) {
+          let mut i = 20;
+          while i + 4 <= n {
+            let (kind, len) = (buf[i], u16::from_le_bytes([buf[i + 2], buf[i + 3]]) as usize);
+            if kind == 0x07 {
+              found.push(u32::from_le_bytes(buf[i + 24..i + 28].try_into().unwrap()));
+            }
+            i += 4 + len;
+          }
+        }
+        found
+      };
+      // The HEARTBEAT at the match (announcing nothing: last 0).
+      assert_eq!(heartbeats(&socket), vec![0]);
+      f.ack_nack([], 1);
+      assert_eq!(heartbeats(&socket), vec![0], "the first ACKNACK is answered");
+      f.ack_nack([], 2);
+      assert_eq!(heartbeats(&socket), Vec::<u32>::new(), "the second is not");
     }
 
     // A repeated ACKNACK count is a copy and changes nothing; a new count does.
