@@ -550,9 +550,9 @@ print("max x", last.get("x"), "last m2", last.get("m2"))
 /// channel but those paced by the wall clock: `/diagnostics` and `~/cycle_stats` (measured
 /// execution times, 1 Hz) and `/rosout` (stamped with the system time, as rcl does; at this
 /// log level empty anyway). `/parameter_events` (each node's declaration, stamped with the
-/// system time at its creation) is compared without its stamp. The axis node's `~/events` (the script's acknowledgements,
-/// plcopen_platform.md §12.1) and `/clock` are among the equal ones: in a stream they follow
-/// the cycles, not the wall clock.
+/// system time at its creation) is compared without its stamp. The axis node's `~/events`
+/// (the script's acknowledgements, plcopen_platform.md §12.1) and `/clock` are among the
+/// equal ones: in a stream they follow the cycles, not the wall clock.
 #[test]
 fn a_scripted_lockstep_run_replays_bit_identically() {
     require_netns();
