@@ -687,8 +687,8 @@ impl Node {
     // `/parameter_events` as new parameters, as rclcpp and rclpy announce each
     // declaration (here one event: they are declared together).
     let declared = ParameterChanges {
-      new_parameters: (node.options.declared_parameters.iter())
-        .map(|p| raw::Parameter::from(p.clone()))
+      new_parameters: (node.options.declared_parameters.iter().cloned())
+        .map(raw::Parameter::from)
         .collect(),
       ..ParameterChanges::default()
     };

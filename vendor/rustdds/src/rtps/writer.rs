@@ -509,6 +509,17 @@ impl Writer {
     }
   }
 
+  /// motion-suite patches 7 and 10: a HEARTBEAT to a reader that may not know us yet
+  /// (just matched, or its first ACKNACK), again 20 and 80 ms later while it lags or has
+  /// not answered one (`TimedEvent::HeartbeatToNewReader`).
+  fn heartbeat_to_new_reader(&mut self, reader: GUID) {
+    self.heartbeat_to_reader(reader);
+    self.schedule_timed_event(
+      crate::rtps::constant::new_match_repeat_delay(2),
+      TimedEvent::HeartbeatToNewReader { reader, left: 2 },
+    );
+  }
+
   pub fn handle_timed_event(&mut self, event: TimedEvent) {
     match event {
       TimedEvent::Heartbeat => {
@@ -1337,18 +1348,11 @@ impl Writer {
           heartbeat_now = an.reader_sn_state.iter().next().is_none()
             && (reader_proxy.all_acked_before <= last_seq || first);
         }
-        if heartbeat_now {
-          self.heartbeat_to_reader(reader_guid);
-        }
         if heartbeat_now && first {
-          // Again 20 and 80 ms later while it has not answered (lost on the way).
-          self.schedule_timed_event(
-            crate::rtps::constant::new_match_repeat_delay(2),
-            TimedEvent::HeartbeatToNewReader {
-              reader: reader_guid,
-              left: 2,
-            },
-          );
+          // Repeated like the HEARTBEAT at a match, in case this one is lost.
+          self.heartbeat_to_new_reader(reader_guid);
+        } else if heartbeat_now {
+          self.heartbeat_to_reader(reader_guid);
         }
       } // AckNack
       AckSubmessage::NackFrag(ref nackfrag) => {
@@ -2075,16 +2079,7 @@ impl Writer {
           // data (notably builtin SEDP DiscoveredWriterData) is never delivered
           // and the endpoints stay unmatched. Unicast to just the new reader.
           if self.is_reliable() && !self.like_stateless {
-            let new_reader_guid = reader_proxy.remote_reader_guid;
-            self.heartbeat_to_reader(new_reader_guid);
-            // motion-suite patch 7: again 20 and 80 ms later while it lags.
-            self.schedule_timed_event(
-              crate::rtps::constant::new_match_repeat_delay(2),
-              TimedEvent::HeartbeatToNewReader {
-                reader: new_reader_guid,
-                left: 2,
-              },
-            );
+            self.heartbeat_to_new_reader(reader_proxy.remote_reader_guid);
           }
           info!(
             "Matched new remote reader on topic={:?} reader={:?}",
