@@ -69,7 +69,7 @@ fn the_page_shows_the_moving_demo_in_a_real_browser() {
         "/pickplace_node/markers",
     ] {
         assert!(
-            fox.get(topic).is_some_and(|t| t.count > 0),
+            fox.topics.get(topic).is_some_and(|t| t.count > 0),
             "{topic} through Foxglove's client: {fox:?}"
         );
     }

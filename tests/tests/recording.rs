@@ -41,6 +41,8 @@ params = {}
 with open(sys.argv[1], 'rb') as f:
     r = make_reader(f, decoder_factories=[Factory()])
     print('profile', r.get_header().profile)
+    chunks = {c.compression or '(none)' for c in r.get_summary().chunk_indexes}
+    print('chunks', ' '.join(sorted(chunks)))
     for schema, channel, message, m in r.iter_decoded_messages(log_time_order=True):
         assert schema.encoding == 'ros2msg' and channel.message_encoding == 'cdr'
         count[(channel.topic, schema.name)] += 1
@@ -148,6 +150,8 @@ fn the_demo_records_every_state_topic_to_mcap() {
     let _ = std::fs::remove_dir_all(&dir);
     let Some(got) = got else { return };
     assert!(got.starts_with("profile ros2\n"), "{got}");
+    // Chunks compressed with zstd, as `ros2 bag record -s mcap` writes by default.
+    assert!(got.contains("\nchunks zstd\n"), "{got}");
     let count = |topic: &str, ty: &str| -> u64 {
         got.lines()
             .find_map(|l| {
@@ -312,6 +316,7 @@ fn the_launch_config_key_records_events_and_command_status() {
     // feedback included.
     if system_tests::foxglove::ready() {
         let fox = system_tests::foxglove::decode(&["mcap", &file.to_string_lossy()]);
+        assert_eq!(fox.chunks.as_deref(), Some("zstd"), "{fox:?}");
         let fb = &fox["/axis_node/move_absolute/_action/feedback"];
         assert_eq!(fb.schema, "motion_msgs/action/MoveAbsolute_FeedbackMessage");
         assert!(
@@ -426,6 +431,8 @@ fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
 
 /// `--record-topics` (config key `record_topics`) records only the topics named, every cycle
 /// of them; the others are not even built in such a run. Names must be absolute.
+/// `--record-compression none` (config key `record_compression`) leaves the chunks
+/// uncompressed; a compression other than zstd or none is refused.
 #[test]
 fn record_topics_take_only_the_topics_named() {
     require_netns();
@@ -450,6 +457,8 @@ fn record_topics_take_only_the_topics_named() {
         &f,
         "--record-topics",
         "/joint_states,/axis_node/axes/a3/state",
+        "--record-compression",
+        "none",
     ]);
     assert!(
         out.status.success(),
@@ -464,6 +473,14 @@ fn record_topics_take_only_the_topics_named() {
         (
             vec!["--check", "--record-topics"],
             "--record-topics needs topic names",
+        ),
+        (
+            vec!["--check", "--record-compression", "lz4"],
+            "--record-compression: unknown compression 'lz4' (one of: zstd, none)",
+        ),
+        (
+            vec!["--check", "--record-compression"],
+            "--record-compression needs one of: zstd, none",
         ),
     ] {
         let bad = run(&args);
@@ -483,6 +500,18 @@ fn record_topics_take_only_the_topics_named() {
         log.contains("record_topics: expected at least one topic"),
         "{log}"
     );
+    std::fs::write(
+        dir.join("key.yaml"),
+        "record_compression: 3\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
+    )
+    .unwrap();
+    let bad = run_with(&dir.join("key.yaml"), &["--check"]);
+    let log = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("record_compression: expected one of: zstd, none"),
+        "{log}"
+    );
     let got = read_back(&file);
     let _ = std::fs::remove_dir_all(&dir);
     let Some(got) = got else { return };
@@ -495,6 +524,7 @@ fn record_topics_take_only_the_topics_named() {
         ],
         "{got}"
     );
+    assert!(got.contains("\nchunks (none)\n"), "{got}");
 }
 
 /// `--cycles` needs lockstep nodes: a real-time node is a configuration error (exit 2).

@@ -1,18 +1,21 @@
 // Decodes recordings and the live feed as the Foxglove app does, with Foxglove's own libraries:
-// @mcap/core reads the file, @foxglove/ws-protocol is the live feed's client, @foxglove/rosmsg
-// parses each `ros2msg` schema and @foxglove/rosmsg2-serialization reads the CDR.
+// @mcap/core reads the file (its zstd/lz4 chunks through @mcap/support's decompressors, the
+// app's), @foxglove/ws-protocol is the live feed's client, @foxglove/rosmsg parses each
+// `ros2msg` schema and @foxglove/rosmsg2-serialization reads the CDR.
 //
 //   node foxglove_decode.mjs mcap FILE
 //   node foxglove_decode.mjs live ws://HOST:PORT SECONDS
 //
 // Prints one line per topic: `topic<TAB>schema<TAB>messages<TAB>last message as JSON`, then
-// `decoded N` (all messages) and exits 0; a schema that does not parse or a message that does
-// not decode is a line `error ...` and exit 1.
+// `decoded N` (all messages) and exits 0 (a recording first prints `chunks C`: the compressions
+// of its chunks, e.g. `zstd`); a schema that does not parse or a message that does not decode
+// is a line `error ...` and exit 1.
 
 import { readFileSync } from "node:fs";
 import { parse } from "@foxglove/rosmsg";
 import { MessageReader } from "@foxglove/rosmsg2-serialization";
 import { McapStreamReader } from "@mcap/core";
+import { loadDecompressHandlers } from "@mcap/support";
 import wsProtocol from "@foxglove/ws-protocol";
 import WebSocket from "ws";
 
@@ -52,8 +55,10 @@ function report() {
   process.exit(errors.length ? 1 : 0);
 }
 
-function mcap(file) {
-  const reader = new McapStreamReader();
+const compressions = new Set(); // of the recording's chunks ("" = none)
+
+async function mcap(file) {
+  const reader = new McapStreamReader({ decompressHandlers: await loadDecompressHandlers() });
   reader.append(new Uint8Array(readFileSync(file)));
   const schemas = new Map();
   const channels = new Map();
@@ -71,9 +76,12 @@ function mcap(file) {
     } else if (r.type === "Message") {
       const c = channels.get(r.channelId);
       if (c) take(c.topic, c.schema, c.reader, r.data);
+    } else if (r.type === "ChunkIndex") {
+      compressions.add(r.compression || "(none)");
     }
   }
   if (!reader.done()) errors.push("the file does not end with a valid footer");
+  console.log(`chunks ${[...compressions].sort().join(" ")}`);
   report();
 }
 

@@ -137,6 +137,8 @@ struct LaunchKeys {
     record: Option<String>,
     /// `record_topics: [/a, /b]`: record only these topics (absolute names).
     record_topics: Option<Vec<String>>,
+    /// `record_compression: zstd | none`: how the recording's chunks are compressed.
+    record_compression: Option<crate::record::Compression>,
     /// `live: true | false | {host, port, page_port}`: the live feed and page.
     live: Option<crate::live::LiveSettings>,
 }
@@ -197,12 +199,12 @@ fn parse_launch(
                     message: "expected a file name (e.g. run.mcap)".into(),
                 })
             }
-            Some("live") | Some("record_topics") => {}
+            Some("live") | Some("record_topics") | Some("record_compression") => {}
             _ => {
                 return Err(ConfigError {
                     location: format!("{file}: {}", k.as_str().unwrap_or("?")),
                     message: "unknown key (expected 'nodes' and optionally 'record', \
-                              'record_topics', 'live')"
+                              'record_topics', 'record_compression', 'live')"
                         .into(),
                 })
             }
@@ -288,11 +290,24 @@ fn parse_launch(
                 })?,
         ),
     };
+    let record_compression = match map.get("record_compression") {
+        None => None,
+        Some(v) => Some(
+            v.as_str()
+                .ok_or_else(|| format!("expected one of: {}", crate::record::Compression::NAMES))
+                .and_then(str::parse)
+                .map_err(|message| ConfigError {
+                    location: format!("{file}: record_compression"),
+                    message,
+                })?,
+        ),
+    };
     Ok((
         out,
         LaunchKeys {
             record,
             record_topics,
+            record_compression,
             live,
         },
     ))
@@ -324,6 +339,8 @@ pub struct Args {
     pub record: Option<String>,
     /// `--record-topics /a,/b`: record only these topics.
     pub record_topics: Option<Vec<String>>,
+    /// `--record-compression zstd|none`: how the recording's chunks are compressed.
+    pub record_compression: Option<crate::record::Compression>,
     /// `--cycles N`: run N cycles of every (lockstep) node as fast as they go, then stop;
     /// no client needs to step them over DDS.
     pub cycles: Option<u64>,
@@ -386,6 +403,18 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                 a.record_topics =
                     Some(record_topics(topics).map_err(|e| format!("--record-topics: {e}"))?);
             }
+            "--record-compression" => {
+                let v = it.next().ok_or_else(|| {
+                    format!(
+                        "--record-compression needs one of: {}",
+                        crate::record::Compression::NAMES
+                    )
+                })?;
+                a.record_compression = Some(
+                    v.parse()
+                        .map_err(|e| format!("--record-compression: {e}"))?,
+                );
+            }
             "-h" | "--help" => return Err(usage.to_string()),
             s if s.starts_with('-') => return Err(format!("unknown option {s}\n{usage}")),
             s => {
@@ -406,7 +435,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap [--record-topics /A,/B]] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap [--record-topics /A,/B] [--record-compression zstd|none]] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -450,6 +479,10 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     };
     let record = args.record.clone().or(keys.record);
     let record_topics = args.record_topics.clone().or(keys.record_topics);
+    let compression = args
+        .record_compression
+        .or(keys.record_compression)
+        .unwrap_or_default();
     let live = match (args.live, keys.live) {
         (Some(None), _) | (None, None) => None,
         (Some(Some(port)), cfg) => Some(crate::live::LiveSettings {
@@ -460,7 +493,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         (None, Some(cfg)) => cfg.enabled.then_some(cfg),
     };
     if let (Some(file), false) = (&record, args.check) {
-        if let Err(e) = crate::record::start(Path::new(file), record_topics) {
+        if let Err(e) = crate::record::start(Path::new(file), record_topics, compression) {
             eprintln!("{program}: cannot record to {file}: {e}");
             return 2;
         }
@@ -684,6 +717,29 @@ mod tests {
     }
 
     #[test]
+    fn record_compression_defaults_to_zstd_and_can_be_none() {
+        let keys = |text: &str| {
+            parse_launch(text, "f.yaml", KINDS, &RosArgs::default())
+                .unwrap()
+                .1
+                .record_compression
+        };
+        assert_eq!(keys("nodes: []\n"), None);
+        assert_eq!(
+            crate::record::Compression::default(),
+            crate::record::Compression::Zstd
+        );
+        assert_eq!(
+            keys("nodes: []\nrecord_compression: none\n"),
+            Some(crate::record::Compression::None)
+        );
+        assert_eq!(
+            keys("nodes: []\nrecord_compression: zstd\n"),
+            Some(crate::record::Compression::Zstd)
+        );
+    }
+
+    #[test]
     fn errors_name_file_key_and_problem() {
         let cases = [
             (
@@ -732,6 +788,16 @@ mod tests {
                 "used twice",
             ),
             ("node: []\n", "f.yaml: node", "unknown key"),
+            (
+                "nodes: []\nrecord_compression: lz5\n",
+                "f.yaml: record_compression",
+                "unknown compression 'lz5' (one of: zstd, none)",
+            ),
+            (
+                "nodes: []\nrecord_compression: [zstd]\n",
+                "f.yaml: record_compression",
+                "expected one of: zstd, none",
+            ),
             ("nodes: [\n", "f.yaml", "line 2"),
         ];
         for (text, loc, msg) in cases {

@@ -1,7 +1,8 @@
 //! A recording (`motion_runtime::record`) is an MCAP file of the ROS 2 profile that the PyPI
 //! readers (`mcap` with `mcap-ros2-support`, what Foxglove's tooling uses) open and decode:
 //! header profile `ros2`, one `ros2msg` schema per type, one `cdr` channel per topic, every
-//! message with its time and sequence number, the values as written.
+//! message with its time and sequence number, the values as written; its chunks compressed with
+//! zstd (the default, as `ros2 bag record -s mcap` writes) or not at all.
 //!
 //! Needs a python3 with `mcap_ros2` (`$MOTION_MSGS_PYTHON`, else `python3`); skipped with a
 //! message when there is none, unless `MOTION_MSGS_REQUIRE_MCAP` is set (the test command).
@@ -10,7 +11,7 @@ use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::deps::sensor_msgs::msg::JointState;
 use motion_msgs::deps::std_msgs::msg::Header;
 use motion_msgs::msg;
-use motion_runtime::record::{RecordError, Recording};
+use motion_runtime::record::{Compression, RecordError, Recording};
 use std::process::Command;
 
 const PY: &str = r#"
@@ -22,6 +23,7 @@ with open(sys.argv[1], 'rb') as f:
     print('profile', r.get_header().profile)
     s = r.get_summary()
     print('channels', len(s.channels), 'schemas', len(s.schemas), 'messages', s.statistics.message_count)
+    print('chunks', ' '.join(sorted({c.compression or '(none)' for c in s.chunk_indexes})))
     for schema, channel, message, m in r.iter_decoded_messages(log_time_order=True):
         if schema.name == 'sensor_msgs/msg/JointState':
             v = ' '.join('%g' % p for p in m.position)
@@ -74,10 +76,21 @@ fn axes(names_pos: &[(&str, f64)]) -> msg::AxisStateArray {
 
 #[test]
 fn a_recording_reads_back_with_the_pypi_readers() {
-    let dir = std::env::temp_dir().join(format!("motion_record_{}", std::process::id()));
+    reads_back(Compression::Zstd, "zstd");
+}
+
+#[test]
+fn an_uncompressed_recording_reads_back_with_the_pypi_readers() {
+    reads_back(Compression::None, "(none)");
+}
+
+/// Writes a short recording with `compression`, reads it back with the PyPI readers, which
+/// must find its chunks compressed as `chunks` says.
+fn reads_back(compression: Compression, chunks: &str) {
+    let dir = std::env::temp_dir().join(format!("motion_record_{}_{chunks}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("run.mcap");
-    let mut rec = Recording::create(&path).expect("create");
+    let mut rec = Recording::create(&path, compression).expect("create");
     let js = "sensor_msgs/msg/JointState";
     let st = "motion_msgs/msg/AxisStateArray";
     rec.write("/joint_states", js, 1_000_000, &joints(1, 0.5))
@@ -129,14 +142,17 @@ fn a_recording_reads_back_with_the_pypi_readers() {
         String::from_utf8_lossy(&out.stderr)
     );
     let got = String::from_utf8_lossy(&out.stdout);
-    let want = "\
+    let want = format!(
+        "\
 profile ros2
 channels 2 schemas 2 messages 5
+chunks {chunks}
 /joint_states sensor_msgs/msg/JointState ros2msg cdr 1000000 1 0.5 -0.5
 /axis_node/axis_states motion_msgs/msg/AxisStateArray ros2msg cdr 1000000 1 x=0.5
 /joint_states sensor_msgs/msg/JointState ros2msg cdr 2000000 2 0.75 -0.75
 /axis_node/axis_states motion_msgs/msg/AxisStateArray ros2msg cdr 2000000 2 x=0.75 y=-1
 /joint_states sensor_msgs/msg/JointState ros2msg cdr 3000000 3 1 -1
-";
+"
+    );
     assert_eq!(got, want);
 }

@@ -10,6 +10,7 @@ use axis_engine::{AxisCommand, AxisConfig, AxisEngine, BufferMode, Direction, Mo
 use motion_core::{Engine, Tick};
 use motion_runtime::host::CommonConfig;
 use motion_runtime::launch::Running;
+use motion_runtime::record::Compression;
 use std::time::Instant;
 
 const AXES: usize = 10;
@@ -114,9 +115,9 @@ fn node_speed(rt: &tokio::runtime::Runtime, cycles: u64, record_only: bool) -> (
 
 /// The floor a recording sets (the reference for the 1 000x goal): the first `cycles` cycles
 /// of the recording in `file`, written again, message by message, by the same MCAP writer
-/// (no engine, no message building, no serializing), and their bytes written to a plain file.
-/// Returns (bytes per cycle, x real time of the writer, x real time of the plain file).
-fn floor(file: &std::path::Path, cycles: u64) -> (f64, f64, f64) {
+/// (no engine, no message building, no serializing), uncompressed and with zstd (the default
+/// of `--record`), and their bytes written to a plain file.
+fn floor(file: &std::path::Path, cycles: u64) -> Floor {
     use std::io::{Read, Write};
     // Enough of the file for `cycles` cycles (the recording is longer; its end is not read).
     let mut bytes = Vec::new();
@@ -141,13 +142,23 @@ fn floor(file: &std::path::Path, cycles: u64) -> (f64, f64, f64) {
     }
     let total: usize = messages.iter().map(|m| m.3.len()).sum();
     let out = std::env::temp_dir().join(format!("bench_floor_{}.mcap", std::process::id()));
-    let t0 = Instant::now();
-    let mut rec = motion_runtime::record::Recording::create(&out).expect("floor file");
-    for (topic, ty, t, data) in &messages {
-        rec.write_cdr(topic, ty, *t, data).expect("written");
-    }
-    rec.finish().expect("closed");
-    let writer = t0.elapsed().as_secs_f64();
+    // (seconds, file size) of the MCAP writer.
+    let write = |compression| {
+        let t0 = Instant::now();
+        let mut rec =
+            motion_runtime::record::Recording::create(&out, compression).expect("floor file");
+        for (topic, ty, t, data) in &messages {
+            rec.write_cdr(topic, ty, *t, data).expect("written");
+        }
+        rec.finish().expect("closed");
+        let took = t0.elapsed().as_secs_f64();
+        (
+            took,
+            std::fs::metadata(&out).expect("floor file").len() as f64,
+        )
+    };
+    let (writer, size) = write(Compression::None);
+    let (zstd, zstd_size) = write(Compression::Zstd);
     let t0 = Instant::now();
     let mut f = std::io::BufWriter::with_capacity(
         motion_runtime::record::WRITE_BUFFER,
@@ -161,7 +172,24 @@ fn floor(file: &std::path::Path, cycles: u64) -> (f64, f64, f64) {
     let plain = t0.elapsed().as_secs_f64();
     let _ = std::fs::remove_file(&out);
     let sim = cycles as f64 * 0.001;
-    (total as f64 / cycles as f64, sim / writer, sim / plain)
+    Floor {
+        per_cycle: total as f64 / cycles as f64,
+        writer: sim / writer,
+        zstd: sim / zstd,
+        zstd_smaller: size / zstd_size,
+        plain: sim / plain,
+    }
+}
+
+/// The recording's floor (see [`floor`]): bytes per cycle, and each way of writing them as x
+/// real time.
+struct Floor {
+    per_cycle: f64,
+    writer: f64,
+    zstd: f64,
+    /// The uncompressed file's size / the zstd file's.
+    zstd_smaller: f64,
+    plain: f64,
 }
 
 pub fn speed(cycles: u64) {
@@ -174,24 +202,31 @@ pub fn speed(cycles: u64) {
     // snapshot still streamed), the node's own ceiling.
     let (unrecorded, _) = node_speed(&rt, cycles, true);
     let file = std::env::temp_dir().join(format!("bench_lockstep_{}.mcap", std::process::id()));
-    motion_runtime::record::start(&file, None).expect("recording");
+    // Uncompressed (`--record-compression none`): the fastest; zstd's cost is in the floor.
+    motion_runtime::record::start(&file, None, Compression::None).expect("recording");
     let (published, _) = node_speed(&rt, cycles, false);
     let (ratio, moving) = node_speed(&rt, cycles, true);
     motion_runtime::record::set_record_only(false);
     let (written, dropped) = motion_runtime::record::finish()
         .expect("recording on")
         .expect("recording closed");
-    let (per_cycle, writer, plain) = floor(&file, cycles.min(20_000));
+    let Floor {
+        per_cycle,
+        writer,
+        zstd,
+        zstd_smaller,
+        plain,
+    } = floor(&file, cycles.min(20_000));
     let _ = std::fs::remove_file(&file);
     let bare_snapshots = bare(cycles, true);
     let bare = bare(cycles, false);
     println!(
-        "lockstep @1 ms, axis node, {moving} of {AXES} axes moving, every cycle recorded: {ratio:.1}x real time recorded only (as --cycles runs) | {published:.1}x also published over DDS ({written} messages, {dropped} dropped) | {unrecorded:.1}x with nothing recorded | bare engine {bare:.0}x (ratio {:.4}), with a snapshot per cycle {bare_snapshots:.0}x | target >= {TARGET:.0}x: {}",
+        "lockstep @1 ms, axis node, {moving} of {AXES} axes moving, every cycle recorded (uncompressed): {ratio:.1}x real time recorded only (as --cycles runs) | {published:.1}x also published over DDS ({written} messages, {dropped} dropped) | {unrecorded:.1}x with nothing recorded | bare engine {bare:.0}x (ratio {:.4}), with a snapshot per cycle {bare_snapshots:.0}x | target >= {TARGET:.0}x: {}",
         ratio / bare,
         if ratio >= TARGET { "met" } else { "NOT met" }
     );
     println!(
-        "lockstep recording floor: {:.1} KB per cycle; writing them again, nothing else: MCAP writer {writer:.0}x real time (node/writer {:.2}), plain file {plain:.0}x (node/file {:.2}); {TARGET:.0}x needs {:.1} GB/s",
+        "lockstep recording floor: {:.1} KB per cycle; writing them again, nothing else: MCAP writer {writer:.0}x real time (node/writer {:.2}), with zstd (the default) {zstd:.0}x and {zstd_smaller:.1}x smaller, plain file {plain:.0}x (node/file {:.2}); {TARGET:.0}x needs {:.1} GB/s",
         per_cycle / 1e3,
         ratio / writer,
         ratio / plain,
