@@ -219,7 +219,8 @@ async fn scenario(mapping: ServiceMapping) {
     .await;
 
     // MC_Jog as an action: the goal holds the button, cancel releases it; the axis brakes with
-    // the jog's deceleration, the instance ends Done and the goal CANCELED (done = true).
+    // the jog's deceleration (20 u/s^2: 1 s), the instance ends Done and the goal CANCELED
+    // (done = true).
     let jc = c
         .action::<JogGoal, JogResult, JogFeedback>("/axis_node/jog", &Jog::action_type_name())
         .await;
@@ -228,6 +229,7 @@ async fn scenario(mapping: ServiceMapping) {
         jog_forward: true,
         mode: JogGoal::MC_JOGMODE_CONTINOUS,
         velocity: 20.0,
+        deceleration: 20.0,
         ..Default::default()
     };
     let (gid, resp) = send_goal(&jc, "send jog goal", goal).await;
@@ -249,6 +251,21 @@ async fn scenario(mapping: ServiceMapping) {
     .await
     .unwrap();
     assert_eq!(cr.goals_canceling.len(), 1, "cancel accepted");
+    // While it brakes the goal is CANCELING, still active: it reports its progress, as
+    // rclcpp's and rclpy's action servers do (ros2-client patch 10); below 10 u/s the axis
+    // has braked for half a second, long after the cancel was answered.
+    let braking = within(10.0, "feedback while canceling", async {
+        use futures::StreamExt;
+        let mut fb = Box::pin(jc.feedback_stream(gid));
+        loop {
+            let f = fb.next().await.expect("feedback stream").expect("feedback");
+            if f.velocity > 0.0 && f.velocity < 10.0 {
+                break f;
+            }
+        }
+    })
+    .await;
+    assert!(braking.busy, "{braking:?}");
     let (status, result) = within(20.0, "jog result", jc.async_request_result(gid))
         .await
         .unwrap();

@@ -609,6 +609,9 @@ where
   }
 
   /// Publish feedback on how the execution is proceeding.
+  /// motion-suite patch: also while the goal is CANCELING, which is still an
+  /// active goal (rcl_action; rclcpp and rclpy publish feedback in either
+  /// state): a goal winding down after a cancel reports its progress.
   pub async fn publish_feedback(
     &self,
     handle: ExecutingGoalHandle<G>,
@@ -618,7 +621,7 @@ where
       Entry::Vacant(_) => Err(GoalError::NoSuchGoal),
       Entry::Occupied(o) => match o.get() {
         AsyncGoal {
-          status: GoalStatusEnum::Executing,
+          status: GoalStatusEnum::Executing | GoalStatusEnum::Canceling,
           ..
         } => {
           self
@@ -631,7 +634,8 @@ where
           ..
         } => {
           error!(
-            "Tried publish feedback on goal {:?} but status was {:?}, expected Executing.",
+            "Tried publish feedback on goal {:?} but status was {:?}, expected Executing or \
+             Canceling.",
             handle.inner.goal_id, wrong_status
           );
           Err(GoalError::WrongGoalState)
