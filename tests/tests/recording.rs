@@ -488,30 +488,26 @@ fn record_topics_take_only_the_topics_named() {
         assert_eq!(bad.status.code(), Some(2), "{args:?}: {log}");
         assert!(log.contains(needle), "{args:?}: {log}");
     }
-    std::fs::write(
-        dir.join("key.yaml"),
-        "record_topics: []\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
-    )
-    .unwrap();
-    let bad = run_with(&dir.join("key.yaml"), &["--check"]);
-    let log = String::from_utf8_lossy(&bad.stderr);
-    assert_eq!(bad.status.code(), Some(2), "{log}");
-    assert!(
-        log.contains("record_topics: expected at least one topic"),
-        "{log}"
-    );
-    std::fs::write(
-        dir.join("key.yaml"),
-        "record_compression: 3\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
-    )
-    .unwrap();
-    let bad = run_with(&dir.join("key.yaml"), &["--check"]);
-    let log = String::from_utf8_lossy(&bad.stderr);
-    assert_eq!(bad.status.code(), Some(2), "{log}");
-    assert!(
-        log.contains("record_compression: expected one of: zstd, none"),
-        "{log}"
-    );
+    for (key, needle) in [
+        (
+            "record_topics: []",
+            "record_topics: expected at least one topic",
+        ),
+        (
+            "record_compression: 3",
+            "record_compression: expected one of: zstd, none",
+        ),
+    ] {
+        std::fs::write(
+            dir.join("key.yaml"),
+            format!("{key}\nnodes:\n  - kind: axis_node\n    axes: {{x: {{}}}}\n"),
+        )
+        .unwrap();
+        let bad = run_with(&dir.join("key.yaml"), &["--check"]);
+        let log = String::from_utf8_lossy(&bad.stderr);
+        assert_eq!(bad.status.code(), Some(2), "{key}: {log}");
+        assert!(log.contains(needle), "{key}: {log}");
+    }
     let got = read_back(&file);
     let _ = std::fs::remove_dir_all(&dir);
     let Some(got) = got else { return };
