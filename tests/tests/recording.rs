@@ -150,8 +150,8 @@ fn the_demo_records_every_state_topic_to_mcap() {
     let _ = std::fs::remove_dir_all(&dir);
     let Some(got) = got else { return };
     assert!(got.starts_with("profile ros2\n"), "{got}");
-    // Chunks compressed with zstd, as `ros2 bag record -s mcap` writes by default.
-    assert!(got.contains("\nchunks zstd\n"), "{got}");
+    // Chunks uncompressed, as `ros2 bag record -s mcap` writes them by default.
+    assert!(got.contains("\nchunks (none)\n"), "{got}");
     let count = |topic: &str, ty: &str| -> u64 {
         got.lines()
             .find_map(|l| {
@@ -240,9 +240,10 @@ fn a_recording_that_cannot_be_created_is_a_configuration_error() {
     assert!(!log.contains("node started"), "{log}");
 }
 
-/// The config key `record:` records too; with a client's orders the node's `~/events`,
-/// `~/command_status`, `/rosout`, an action's feedback (`<Name>_FeedbackMessage`: the goal's
-/// id and the feedback) and its status are in the recording as well.
+/// The config key `record:` records too (here with `record_compression: zstd`); with a
+/// client's orders the node's `~/events`, `~/command_status`, `/rosout`, an action's feedback
+/// (`<Name>_FeedbackMessage`: the goal's id and the feedback) and its status are in the
+/// recording as well, and the Foxglove app's reader decompresses and decodes every channel.
 #[test]
 fn the_launch_config_key_records_events_and_command_status() {
     require_netns();
@@ -252,7 +253,7 @@ fn the_launch_config_key_records_events_and_command_status() {
     std::fs::write(
         &config,
         format!(
-            "record: {}\nnodes:\n  - kind: axis_node\n    service_mapping: enhanced\n    state_rate: 50\n    axes: {{x: {{}}}}\n",
+            "record: {}\nrecord_compression: zstd\nnodes:\n  - kind: axis_node\n    service_mapping: enhanced\n    state_rate: 50\n    axes: {{x: {{}}}}\n",
             file.display()
         ),
     )
@@ -431,8 +432,8 @@ fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
 
 /// `--record-topics` (config key `record_topics`) records only the topics named, every cycle
 /// of them; the others are not even built in such a run. Names must be absolute.
-/// `--record-compression none` (config key `record_compression`) leaves the chunks
-/// uncompressed; a compression other than zstd or none is refused.
+/// `--record-compression zstd` (config key `record_compression`) compresses the chunks; a
+/// compression other than none or zstd is refused.
 #[test]
 fn record_topics_take_only_the_topics_named() {
     require_netns();
@@ -458,7 +459,7 @@ fn record_topics_take_only_the_topics_named() {
         "--record-topics",
         "/joint_states,/axis_node/axes/a3/state",
         "--record-compression",
-        "none",
+        "zstd",
     ]);
     assert!(
         out.status.success(),
@@ -476,11 +477,11 @@ fn record_topics_take_only_the_topics_named() {
         ),
         (
             vec!["--check", "--record-compression", "lz4"],
-            "--record-compression: unknown compression 'lz4' (one of: zstd, none)",
+            "--record-compression: unknown compression 'lz4' (one of: none, zstd)",
         ),
         (
             vec!["--check", "--record-compression"],
-            "--record-compression needs one of: zstd, none",
+            "--record-compression needs one of: none, zstd",
         ),
     ] {
         let bad = run(&args);
@@ -495,7 +496,7 @@ fn record_topics_take_only_the_topics_named() {
         ),
         (
             "record_compression: 3",
-            "record_compression: expected one of: zstd, none",
+            "record_compression: expected one of: none, zstd",
         ),
     ] {
         std::fs::write(
@@ -520,7 +521,7 @@ fn record_topics_take_only_the_topics_named() {
         ],
         "{got}"
     );
-    assert!(got.contains("\nchunks (none)\n"), "{got}");
+    assert!(got.contains("\nchunks zstd\n"), "{got}");
 }
 
 /// `--cycles` needs lockstep nodes: a real-time node is a configuration error (exit 2).

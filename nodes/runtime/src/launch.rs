@@ -137,7 +137,7 @@ struct LaunchKeys {
     record: Option<String>,
     /// `record_topics: [/a, /b]`: record only these topics (absolute names).
     record_topics: Option<Vec<String>>,
-    /// `record_compression: zstd | none`: how the recording's chunks are compressed.
+    /// `record_compression: none | zstd`: how the recording's chunks are compressed.
     record_compression: Option<crate::record::Compression>,
     /// `live: true | false | {host, port, page_port}`: the live feed and page.
     live: Option<crate::live::LiveSettings>,
@@ -339,7 +339,7 @@ pub struct Args {
     pub record: Option<String>,
     /// `--record-topics /a,/b`: record only these topics.
     pub record_topics: Option<Vec<String>>,
-    /// `--record-compression zstd|none`: how the recording's chunks are compressed.
+    /// `--record-compression none|zstd`: how the recording's chunks are compressed.
     pub record_compression: Option<crate::record::Compression>,
     /// `--cycles N`: run N cycles of every (lockstep) node as fast as they go, then stop;
     /// no client needs to step them over DDS.
@@ -435,7 +435,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap [--record-topics /A,/B] [--record-compression zstd|none]] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap [--record-topics /A,/B] [--record-compression none|zstd]] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -717,7 +717,7 @@ mod tests {
     }
 
     #[test]
-    fn record_compression_defaults_to_zstd_and_can_be_none() {
+    fn record_compression_defaults_to_none_and_can_be_zstd() {
         let keys = |text: &str| {
             parse_launch(text, "f.yaml", KINDS, &RosArgs::default())
                 .unwrap()
@@ -727,7 +727,7 @@ mod tests {
         assert_eq!(keys("nodes: []\n"), None);
         assert_eq!(
             crate::record::Compression::default(),
-            crate::record::Compression::Zstd
+            crate::record::Compression::None
         );
         assert_eq!(
             keys("nodes: []\nrecord_compression: none\n"),
@@ -791,12 +791,12 @@ mod tests {
             (
                 "nodes: []\nrecord_compression: lz5\n",
                 "f.yaml: record_compression",
-                "unknown compression 'lz5' (one of: zstd, none)",
+                "unknown compression 'lz5' (one of: none, zstd)",
             ),
             (
                 "nodes: []\nrecord_compression: [zstd]\n",
                 "f.yaml: record_compression",
-                "expected one of: zstd, none",
+                "expected one of: none, zstd",
             ),
             ("nodes: [\n", "f.yaml", "line 2"),
         ];

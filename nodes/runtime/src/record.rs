@@ -4,8 +4,8 @@
 //! 4-byte encapsulation header, then CDR). Foxglove, Lichtblick, PlotJuggler, rosbag2 and the
 //! PyPI `mcap` readers open such a file.
 //!
-//! [`Recording`] is the writer; it knows nothing of nodes or cycles. Chunks are compressed
-//! with zstd by default, as `ros2 bag record -s mcap` and the MCAP libraries write them (see
+//! [`Recording`] is the writer; it knows nothing of nodes or cycles. Chunks are uncompressed by
+//! default, as `ros2 bag record -s mcap` writes them, or compressed with zstd (see
 //! [`Compression`]); a recording is finished (summary and index written) by
 //! [`Recording::finish`], and a file whose writer was dropped without it is still readable
 //! message by message. It may also go into a FIFO (read by another tool as the run goes), which
@@ -58,19 +58,20 @@ pub enum RecordError {
 /// How a recording's chunks are compressed (`record_compression`, `--record-compression`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Compression {
-    /// zstd at level 1, the default of `ros2 bag record -s mcap` (libmcap's `Default` level for
-    /// zstd) and of the MCAP libraries. Measured with the 10-axis lockstep run recording every
-    /// topic: the file about 7x smaller, the run about half as fast (the compression, on the
-    /// recorder thread, is then what it waits for).
+    /// Uncompressed, the default of `ros2 bag record -s mcap` (rosbag2's MCAP plugin turns
+    /// libmcap's zstd default off, for write throughput): the fastest to write.
     #[default]
-    Zstd,
-    /// Uncompressed: the fastest to write, the largest file.
     None,
+    /// zstd at level 1 (libmcap's `Default` level for zstd; rosbag2's `zstd_fast` preset uses
+    /// zstd's fastest, negative level, which this writer does not take). Measured with the
+    /// 10-axis lockstep run recording every topic: the file about 7x smaller, the run about
+    /// half as fast (the compression, on the recorder thread, is then what it waits for).
+    Zstd,
 }
 
 impl Compression {
     /// The names a config or command line gives.
-    pub const NAMES: &'static str = "zstd, none";
+    pub const NAMES: &'static str = "none, zstd";
 }
 
 impl std::str::FromStr for Compression {

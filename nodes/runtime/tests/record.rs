@@ -1,8 +1,8 @@
 //! A recording (`motion_runtime::record`) is an MCAP file of the ROS 2 profile that the PyPI
 //! readers (`mcap` with `mcap-ros2-support`, what Foxglove's tooling uses) open and decode:
 //! header profile `ros2`, one `ros2msg` schema per type, one `cdr` channel per topic, every
-//! message with its time and sequence number, the values as written; its chunks compressed with
-//! zstd (the default, as `ros2 bag record -s mcap` writes) or not at all.
+//! message with its time and sequence number, the values as written; its chunks uncompressed
+//! (the default, as `ros2 bag record -s mcap` writes them) or compressed with zstd.
 //!
 //! Needs a python3 with `mcap_ros2` (`$MOTION_MSGS_PYTHON`, else `python3`); skipped with a
 //! message when there is none, unless `MOTION_MSGS_REQUIRE_MCAP` is set (the test command).

@@ -115,8 +115,8 @@ fn node_speed(rt: &tokio::runtime::Runtime, cycles: u64, record_only: bool) -> (
 
 /// The floor a recording sets (the reference for the 1 000x goal): the first `cycles` cycles
 /// of the recording in `file`, written again, message by message, by the same MCAP writer
-/// (no engine, no message building, no serializing), uncompressed and with zstd (the default
-/// of `--record`), and their bytes written to a plain file.
+/// (no engine, no message building, no serializing), uncompressed (the default of `--record`)
+/// and with zstd (`--record-compression zstd`), and their bytes written to a plain file.
 fn floor(file: &std::path::Path, cycles: u64) -> Floor {
     use std::io::{Read, Write};
     // Enough of the file for `cycles` cycles (the recording is longer; its end is not read).
@@ -202,7 +202,7 @@ pub fn speed(cycles: u64) {
     // snapshot still streamed), the node's own ceiling.
     let (unrecorded, _) = node_speed(&rt, cycles, true);
     let file = std::env::temp_dir().join(format!("bench_lockstep_{}.mcap", std::process::id()));
-    // Uncompressed (`--record-compression none`): the fastest; zstd's cost is in the floor.
+    // Uncompressed (the default): the fastest; zstd's cost is in the floor.
     motion_runtime::record::start(&file, None, Compression::None).expect("recording");
     let (published, _) = node_speed(&rt, cycles, false);
     let (ratio, moving) = node_speed(&rt, cycles, true);
@@ -226,7 +226,7 @@ pub fn speed(cycles: u64) {
         if ratio >= TARGET { "met" } else { "NOT met" }
     );
     println!(
-        "lockstep recording floor: {:.1} KB per cycle; writing them again, nothing else: MCAP writer {writer:.0}x real time (node/writer {:.2}), with zstd (the default) {zstd:.0}x and {zstd_smaller:.1}x smaller, plain file {plain:.0}x (node/file {:.2}); {TARGET:.0}x needs {:.1} GB/s",
+        "lockstep recording floor: {:.1} KB per cycle; writing them again, nothing else: MCAP writer {writer:.0}x real time (node/writer {:.2}), with zstd {zstd:.0}x and {zstd_smaller:.1}x smaller, plain file {plain:.0}x (node/file {:.2}); {TARGET:.0}x needs {:.1} GB/s",
         per_cycle / 1e3,
         ratio / writer,
         ratio / plain,
