@@ -55,7 +55,7 @@ function report() {
   process.exit(errors.length ? 1 : 0);
 }
 
-const compressions = new Set(); // of the recording's chunks ("" = none)
+const compressions = new Set(); // of the recording's chunks ("(none)": uncompressed)
 
 async function mcap(file) {
   const reader = new McapStreamReader({ decompressHandlers: await loadDecompressHandlers() });
