@@ -75,13 +75,13 @@ fn axes(names_pos: &[(&str, f64)]) -> msg::AxisStateArray {
 }
 
 #[test]
-fn a_recording_reads_back_with_the_pypi_readers() {
-    reads_back(Compression::Zstd, "zstd");
+fn an_uncompressed_recording_reads_back_with_the_pypi_readers() {
+    reads_back(Compression::None, "(none)");
 }
 
 #[test]
-fn an_uncompressed_recording_reads_back_with_the_pypi_readers() {
-    reads_back(Compression::None, "(none)");
+fn a_zstd_recording_reads_back_with_the_pypi_readers() {
+    reads_back(Compression::Zstd, "zstd");
 }
 
 /// Writes a short recording with `compression`, reads it back with the PyPI readers, which
