@@ -8,6 +8,7 @@
 pub mod engine;
 pub mod error_id;
 pub mod fb;
+pub mod refill;
 pub mod trajectory;
 
 pub use engine::{Engine, Tick};

@@ -104,7 +104,13 @@ impl Engine for PlanarEngine {
     }
 
     fn snapshot(&self) -> PlanarSnapshot {
-        self.objects.snapshot(&self.tracks)
+        let mut s = PlanarSnapshot::default();
+        self.snapshot_into(&mut s);
+        s
+    }
+
+    fn snapshot_into(&self, out: &mut PlanarSnapshot) {
+        self.objects.snapshot_into(&self.tracks, out)
     }
 
     /// Every accepted command has an id whose events follow (instant ones end Done at once).

@@ -20,6 +20,7 @@ use crate::motion::{in_c_window, modulo_target, range_in_one_window, Axis1, Kin2
 use crate::snapshot::*;
 use crate::state::{Accepted, PlanarStateMachine, Timing};
 use crate::types::*;
+use motion_core::refill::{refill_vec, reuse_opt_str, reuse_str, reuse_strs};
 use motion_core::trajectory::State1;
 use motion_core::{CmdId, CommandEvent, CommandState, ErrorId, Rejection};
 use std::collections::HashMap;

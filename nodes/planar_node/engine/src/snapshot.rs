@@ -43,7 +43,7 @@ pub struct ActiveCommands {
 }
 
 /// One mover (STD / SET / COORDMODE).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MoverSnapshot {
     /// Configured name.
     pub name: String,
@@ -92,7 +92,7 @@ pub struct MoverSnapshot {
 }
 
 /// `SETONTRACK` of a mover (§4.4).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct OnTrackSnapshot {
     /// Track name.
     pub track: String,
@@ -117,7 +117,7 @@ pub struct OnTrackSnapshot {
 }
 
 /// A track (`MCTOPLC_STD` and online values, §1.6, §3.3).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TrackSnapshot {
     /// Name.
     pub name: String,
@@ -159,7 +159,7 @@ pub struct TrackSnapshot {
 }
 
 /// A group.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct GroupSnapshot {
     /// Name.
     pub name: String,
@@ -178,7 +178,7 @@ pub struct GroupSnapshot {
 }
 
 /// A part (`PlanarPartsInfo`, §1.2, §1.10).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PartSnapshot {
     /// Name.
     pub name: String,
@@ -199,7 +199,7 @@ pub struct PartSnapshot {
 }
 
 /// The environment.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnvironmentSnapshot {
     /// Name.
     pub name: String,
@@ -219,7 +219,7 @@ pub struct EnvironmentSnapshot {
 }
 
 /// Everything published in one cycle.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct PlanarSnapshot {
     /// Simulated time \[s\].
     pub time: f64,
@@ -238,7 +238,7 @@ pub struct PlanarSnapshot {
 }
 
 /// A virtual master axis (§5.8.4).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct VirtualAxisSnapshot {
     /// Name.
     pub name: String,

@@ -210,3 +210,84 @@ fn invalid_trails() {
         false,
     ));
 }
+
+/// A lockstep state stream builds each snapshot in an older one's buffers
+/// (`Engine::snapshot_into`): the result equals a fresh snapshot, whatever the old one held:
+/// here a geared slave (gear master named) and a group with a member track and a mover moving
+/// on it, each refilled into the other's snapshot and into its own from before the motion.
+#[test]
+fn snapshot_into_an_old_snapshot_equals_a_fresh_one() {
+    use motion_core::Engine;
+    // W12's coupling: SL geared to MA, MA moving.
+    let mut geared = Sim::new(cfg(
+        &[("MA", 100.0, 620.0), ("SL", 100.0, 100.0)],
+        &["TM", "TS"],
+    ));
+    let mut geared_before = geared.eng.snapshot();
+    geared.ok(line("TM", (100.0, 620.0), (860.0, 620.0)));
+    geared.ok(line("TS", (100.0, 100.0), (860.0, 100.0)));
+    enable_track(&mut geared, "TM");
+    enable_track(&mut geared, "TS");
+    geared.enable("MA");
+    geared.enable("SL");
+    join_wait(&mut geared, "MA", "TM", true);
+    join_wait(&mut geared, "SL", "TS", true);
+    geared.ok(mot("MA", "", 500.0));
+    geared.step();
+    geared.ok(gear("SL", "MA", &[], 100.0, "TM", 100.0, "TS", false));
+    geared.steps(200);
+    // W19's group: movers A, B and track T members of G, A moving on T.
+    let mut c = cfg(
+        &[("A", 0.0, 0.0), ("B", 240.0, 320.0), ("C", 700.0, 500.0)],
+        &["T"],
+    );
+    c.groups = vec![GroupConfig {
+        name: "G".into(),
+        oid: 0,
+    }];
+    let mut grouped = Sim::new(c);
+    let mut grouped_before = grouped.eng.snapshot();
+    grouped.ok(line("T", (0.0, 0.0), (400.0, 0.0)));
+    enable_track(&mut grouped, "T");
+    grouped.enable_group("G");
+    grouped.enable("A");
+    grouped.enable("B");
+    for m in ["A", "B"] {
+        grouped.ok(PlanarCommand::MoverAddToGroup {
+            mover: m.into(),
+            group: "G".into(),
+        });
+    }
+    grouped.ok(PlanarCommand::TrackAddToGroup {
+        track: "T".into(),
+        group: "G".into(),
+    });
+    join_wait(&mut grouped, "A", "T", true);
+    grouped.ok(mot("A", "", 150.0));
+    grouped.steps(100);
+
+    let (g, p) = (geared.eng.snapshot(), grouped.eng.snapshot());
+    let sl = on_track(&geared, "SL");
+    assert_eq!(sl.gear_master.as_deref(), Some("MA"), "{sl:?}");
+    assert!(on_track(&geared, "MA").set_velo > 0.0, "MA moving");
+    assert!(on_track(&grouped, "A").set_velo > 0.0, "A moving");
+    let group = p.group("G").expect("G");
+    assert_eq!(
+        (group.member_count, &group.movers, &group.tracks),
+        (
+            3,
+            &vec!["A".to_string(), "B".into()],
+            &vec!["T".to_string()]
+        )
+    );
+    assert_eq!(p.mover("A").and_then(|m| m.group.as_deref()), Some("G"));
+    let mut into_other = (g.clone(), p.clone());
+    grouped.eng.snapshot_into(&mut into_other.0);
+    geared.eng.snapshot_into(&mut into_other.1);
+    assert_eq!(into_other.0, p);
+    assert_eq!(into_other.1, g);
+    geared.eng.snapshot_into(&mut geared_before);
+    grouped.eng.snapshot_into(&mut grouped_before);
+    assert_eq!(geared_before, g);
+    assert_eq!(grouped_before, p);
+}

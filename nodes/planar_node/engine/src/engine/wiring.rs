@@ -194,19 +194,32 @@ impl TrackHooks for TrackSystem {
         TrackSystem::inject_error(self, name, reaction, timing, events)
     }
 
-    fn mover_on_track(&self, objects: &Objects, m: &Mover) -> Option<OnTrackSnapshot> {
-        self.on_track_snapshot(objects, m)
+    fn mover_on_track(
+        &self,
+        objects: &Objects,
+        m: &Mover,
+        old: Option<OnTrackSnapshot>,
+    ) -> Option<OnTrackSnapshot> {
+        self.on_track_snapshot(objects, m, old)
     }
 
-    fn track_name(&self, k: usize) -> String {
+    fn track_name(&self, k: usize) -> &str {
         TrackSystem::track_name(self, k)
     }
 
-    fn group_tracks(&self, g: usize) -> Vec<String> {
-        TrackSystem::group_tracks(self, g)
+    fn group_tracks(&self, g: usize, old: Vec<String>) -> Vec<String> {
+        TrackSystem::group_tracks(self, g, old)
     }
 
-    fn snapshots(&self, objects: &Objects) -> (Vec<TrackSnapshot>, Vec<VirtualAxisSnapshot>) {
-        (self.track_snapshots(objects), self.axis_snapshots())
+    fn snapshots(
+        &self,
+        objects: &Objects,
+        old_tracks: Vec<TrackSnapshot>,
+        old_axes: Vec<VirtualAxisSnapshot>,
+    ) -> (Vec<TrackSnapshot>, Vec<VirtualAxisSnapshot>) {
+        (
+            self.track_snapshots(objects, old_tracks),
+            self.axis_snapshots(old_axes),
+        )
     }
 }

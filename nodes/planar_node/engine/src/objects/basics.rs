@@ -434,7 +434,13 @@ impl Objects {
         tracks.check_swept(self, i, swept)
     }
 
-    pub(super) fn snapshot_mover(&self, tracks: &dyn TrackHooks, m: &Mover) -> MoverSnapshot {
+    /// Mover `m`'s snapshot, in `old`'s buffers.
+    fn snapshot_mover(
+        &self,
+        tracks: &dyn TrackHooks,
+        m: &Mover,
+        old: MoverSnapshot,
+    ) -> MoverSnapshot {
         let part = self.part_of(m);
         let o = &m.offset;
         let xy = m.xy_out();
@@ -459,7 +465,7 @@ impl Objects {
                 || m.esg.is_some(),
         };
         MoverSnapshot {
-            name: m.name.clone(),
+            name: reuse_str(old.name, &m.name),
             oid: m.oid,
             state: m.sm.state,
             command_mode: if m.sm.state == PlanarState::Enabled {
@@ -469,9 +475,9 @@ impl Objects {
             },
             busy,
             group_oid: m.group.map(|g| self.groups[g].oid).unwrap_or(0),
-            group: m.group.map(|g| self.groups[g].name.clone()),
+            group: reuse_opt_str(old.group, m.group.map(|g| self.groups[g].name.as_str())),
             part_oid: part.map(|p| self.parts[p].oid).unwrap_or(0),
-            part: part.map(|p| self.parts[p].name.clone()),
+            part: reuse_opt_str(old.part, part.map(|p| self.parts[p].name.as_str())),
             coordinate_system_oid: m.cs,
             error_id: m.sm.error_id,
             error_reaction: m.sm.reaction,
@@ -508,24 +514,31 @@ impl Objects {
                 b: m.b_cmd,
                 external_setpoint: m.esg.as_ref().map(|e| e.session),
             },
-            on_track: tracks.mover_on_track(self, m),
-            joining_or_leaving: m
-                .joining
-                .map(|j| j.0)
-                .or(m.leaving)
-                .map(|k| tracks.track_name(k)),
+            on_track: tracks.mover_on_track(self, m, old.on_track),
+            joining_or_leaving: reuse_opt_str(
+                old.joining_or_leaving,
+                m.joining
+                    .map(|j| j.0)
+                    .or(m.leaving)
+                    .map(|k| tracks.track_name(k)),
+            ),
         }
     }
 }
 
 impl Objects {
-    /// The snapshot of the objects and the tracks.
-    pub(crate) fn snapshot(&self, tracks: &dyn TrackHooks) -> PlanarSnapshot {
-        let (track_snapshots, axes) = tracks.snapshots(self);
-        PlanarSnapshot {
+    /// The snapshot of the objects and the tracks, built in an older snapshot's buffers (a
+    /// lockstep state stream takes one every cycle; nothing is allocated once they are warm).
+    pub(crate) fn snapshot_into(&self, tracks: &dyn TrackHooks, out: &mut PlanarSnapshot) {
+        let old = std::mem::take(out);
+        let mut added_stators = old.environment.added_stators;
+        added_stators.clear();
+        added_stators.extend(self.env.stators.iter().map(|v| [v.x, v.y]));
+        let (track_snapshots, axes) = tracks.snapshots(self, old.tracks, old.axes);
+        *out = PlanarSnapshot {
             time: self.time,
             environment: EnvironmentSnapshot {
-                name: self.env.name.clone(),
+                name: reuse_str(old.environment.name, &self.env.name),
                 oid: self.env.oid,
                 group_oid: self.env.group.map(|g| self.groups[g].oid).unwrap_or(0),
                 stator_count: if self.parts.is_empty() {
@@ -535,54 +548,44 @@ impl Objects {
                 },
                 boundary_element_count: self.env.boundary.unwrap_or(0),
                 part_count: self.parts.len(),
-                added_stators: self.env.stators.iter().map(|v| [v.x, v.y]).collect(),
+                added_stators,
             },
-            movers: self
-                .movers
-                .iter()
-                .map(|m| self.snapshot_mover(tracks, m))
-                .collect(),
-            groups: self
-                .groups
-                .iter()
-                .enumerate()
-                .map(|(gi, g)| {
-                    let member_tracks = tracks.group_tracks(gi);
-                    GroupSnapshot {
-                        name: g.name.clone(),
-                        oid: g.oid,
-                        state: g.sm.state,
-                        member_count: g.movers.len() + g.environment as usize + member_tracks.len(),
-                        tracks: member_tracks,
-                        movers: g
-                            .movers
-                            .iter()
-                            .map(|&j| self.movers[j].name.clone())
-                            .collect(),
-                        environment_member: g.environment,
-                    }
-                })
-                .collect(),
-            parts: self
-                .parts
-                .iter()
-                .map(|p| {
-                    let (cs, o) = p.origin();
-                    PartSnapshot {
-                        name: p.name.clone(),
-                        oid: p.oid,
-                        state: p.sm.state,
-                        position_index: p.index,
-                        position: PositionXYC::with_ref(o.x, o.y, 0.0, cs),
-                        disable_forced: p.force_disabled,
-                        is_initialized: p.initialized,
-                        moving: p.transit.is_some(),
-                    }
-                })
-                .collect(),
+            movers: refill_vec(old.movers, self.movers.len(), |i, old| {
+                self.snapshot_mover(tracks, &self.movers[i], old)
+            }),
+            groups: refill_vec(old.groups, self.groups.len(), |gi, old| {
+                let g = &self.groups[gi];
+                let member_tracks = tracks.group_tracks(gi, old.tracks);
+                GroupSnapshot {
+                    name: reuse_str(old.name, &g.name),
+                    oid: g.oid,
+                    state: g.sm.state,
+                    member_count: g.movers.len() + g.environment as usize + member_tracks.len(),
+                    tracks: member_tracks,
+                    movers: reuse_strs(
+                        old.movers,
+                        g.movers.iter().map(|&j| self.movers[j].name.as_str()),
+                    ),
+                    environment_member: g.environment,
+                }
+            }),
+            parts: refill_vec(old.parts, self.parts.len(), |pi, old| {
+                let p = &self.parts[pi];
+                let (cs, o) = p.origin();
+                PartSnapshot {
+                    name: reuse_str(old.name, &p.name),
+                    oid: p.oid,
+                    state: p.sm.state,
+                    position_index: p.index,
+                    position: PositionXYC::with_ref(o.x, o.y, 0.0, cs),
+                    disable_forced: p.force_disabled,
+                    is_initialized: p.initialized,
+                    moving: p.transit.is_some(),
+                }
+            }),
             tracks: track_snapshots,
             axes,
-        }
+        };
     }
 
     /// A cancelled goal: the mover halts (MC_Halt semantics) or its ESG session stops.

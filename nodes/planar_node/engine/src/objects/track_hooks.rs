@@ -55,15 +55,26 @@ pub(crate) trait TrackHooks {
         events: &mut Vec<CommandEvent>,
     ) -> Result<(), Rejection>;
 
-    /// The on-track part of mover `m`'s snapshot.
-    fn mover_on_track(&self, objects: &Objects, m: &Mover) -> Option<OnTrackSnapshot>;
+    /// The on-track part of mover `m`'s snapshot (None off the tracks), in `old`'s buffers.
+    /// The snapshot hooks reuse an older snapshot's memory (`Engine::snapshot_into`).
+    fn mover_on_track(
+        &self,
+        objects: &Objects,
+        m: &Mover,
+        old: Option<OnTrackSnapshot>,
+    ) -> Option<OnTrackSnapshot>;
 
     /// The name of track `k`.
-    fn track_name(&self, k: usize) -> String;
+    fn track_name(&self, k: usize) -> &str;
 
-    /// The names of the tracks that are members of group `g`.
-    fn group_tracks(&self, g: usize) -> Vec<String>;
+    /// The names of the tracks that are members of group `g`, in `old`'s buffers.
+    fn group_tracks(&self, g: usize, old: Vec<String>) -> Vec<String>;
 
-    /// Snapshots of the tracks and the virtual axes.
-    fn snapshots(&self, objects: &Objects) -> (Vec<TrackSnapshot>, Vec<VirtualAxisSnapshot>);
+    /// Snapshots of the tracks and the virtual axes, in the buffers of the old ones.
+    fn snapshots(
+        &self,
+        objects: &Objects,
+        old_tracks: Vec<TrackSnapshot>,
+        old_axes: Vec<VirtualAxisSnapshot>,
+    ) -> (Vec<TrackSnapshot>, Vec<VirtualAxisSnapshot>);
 }

@@ -16,6 +16,7 @@ use crate::guard::Grid;
 use crate::motion::{in_c_window, modulo_target, Kin2};
 use crate::snapshot::{OnTrackSnapshot, PlanarReply, ReplyValue, TrackSnapshot};
 use crate::types::*;
+use motion_core::refill::{refill_vec, reuse_opt_str, reuse_str, reuse_strs};
 use motion_core::trajectory::{Limits, Profile1, State1};
 use motion_core::{CmdId, CommandState, ErrorId, Rejection};
 use std::collections::HashMap;
@@ -1066,16 +1067,13 @@ impl TrackSystem {
         Ok(())
     }
 
-    pub(crate) fn track_name(&self, k: usize) -> String {
-        self.tracks[k].name.clone()
+    pub(crate) fn track_name(&self, k: usize) -> &str {
+        &self.tracks[k].name
     }
 
-    /// The names of the tracks that are members of group `g`.
-    pub(crate) fn group_tracks(&self, g: usize) -> Vec<String> {
-        self.tracks
-            .iter()
-            .filter(|t| t.group == Some(g))
-            .map(|t| t.name.clone())
-            .collect()
+    /// The names of the tracks that are members of group `g`, in `old`'s buffers.
+    pub(crate) fn group_tracks(&self, g: usize, old: Vec<String>) -> Vec<String> {
+        let members = self.tracks.iter().filter(|t| t.group == Some(g));
+        reuse_strs(old, members.map(|t| t.name.as_str()))
     }
 }

@@ -44,19 +44,22 @@ impl TrackSystem {
         }
     }
 
-    pub(crate) fn axis_snapshots(&self) -> Vec<crate::snapshot::VirtualAxisSnapshot> {
-        self.axes
-            .iter()
-            .map(|x| crate::snapshot::VirtualAxisSnapshot {
-                name: x.name.clone(),
+    pub(crate) fn axis_snapshots(
+        &self,
+        old: Vec<crate::snapshot::VirtualAxisSnapshot>,
+    ) -> Vec<crate::snapshot::VirtualAxisSnapshot> {
+        refill_vec(old, self.axes.len(), |i, old| {
+            let x = &self.axes[i];
+            crate::snapshot::VirtualAxisSnapshot {
+                name: reuse_str(old.name, &x.name),
                 oid: x.oid,
                 powered: x.powered,
                 position: x.ax.pos,
                 velocity: x.ax.vel,
                 acceleration: x.ax.acc,
                 busy: x.cmd.is_some(),
-            })
-            .collect()
+            }
+        })
     }
 
     // ------------------------------------------------------------------ gear-in (§5.8)
