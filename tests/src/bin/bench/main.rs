@@ -13,7 +13,8 @@
 //! - ca: collision-avoidance group step cost for 10, 100, 1000 axes on a ring, against the
 //!   plain single-axis step of as many axes.
 //! - planar: engine step cost for 10, 100, 500 movers moving freely with the overlap guard,
-//!   against evaluating their X/Y/C profiles alone.
+//!   against evaluating their X/Y/C profiles alone; the snapshot built in an older one's
+//!   buffers (as a lockstep stream takes it) against a fresh one.
 //! - tracks: movers on a closed-loop track with gap control, 50, 200, 500 movers, against
 //!   one profile evaluation per mover.
 //! - pickplace: cell step mean and p99.9 (2 belts × 30 workpieces, blended ellipse) against the
@@ -126,6 +127,10 @@ fn main() {
         planar::step_cost(
             if smoke { &[10, 100] } else { &[10, 100, 500] },
             if smoke { 200 } else { 2000 },
+        );
+        planar::snapshot_cost(
+            if smoke { &[10, 100] } else { &[10, 100, 500] },
+            if smoke { 200 } else { 5000 },
         );
     }
     if all || args.iter().any(|a| a == "tracks") {

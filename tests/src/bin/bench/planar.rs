@@ -94,3 +94,53 @@ pub fn step_cost(counts: &[usize], steps: u64) {
         );
     }
 }
+
+/// The engine's snapshot as a lockstep state stream takes it every cycle: built in an older
+/// snapshot's buffers (`snapshot_into`) vs a fresh one (`snapshot`, every name and list
+/// allocated and later dropped), `n` movers of the grid, all members of the group.
+pub fn snapshot_cost(counts: &[usize], reps: u32) {
+    for &n in counts {
+        let cfg = grid(n);
+        let mut e = PlanarEngine::new(cfg.clone()).expect("planar config");
+        let (mut tick, mut ev) = (0, Vec::new());
+        for m in &cfg.movers {
+            e.command(PlanarCommand::MoverEnable {
+                mover: m.name.clone(),
+            })
+            .expect("enable");
+        }
+        e.command(PlanarCommand::GroupEnable { group: "G".into() })
+            .expect("group enable");
+        // Enabling takes a while (enable_time 0 for the movers, not for the group).
+        for _ in 0..2000 {
+            step(&mut e, &mut tick, &mut ev);
+        }
+        for m in &cfg.movers {
+            e.command(PlanarCommand::MoverAddToGroup {
+                mover: m.name.clone(),
+                group: "G".into(),
+            })
+            .expect("join the group");
+        }
+        step(&mut e, &mut tick, &mut ev);
+        let mut kept = e.snapshot();
+        assert_eq!(kept.groups[0].movers.len(), n, "all in the group");
+        let t0 = Instant::now();
+        for _ in 0..reps {
+            e.snapshot_into(&mut kept);
+            std::hint::black_box(&kept);
+        }
+        let refilled = t0.elapsed().as_secs_f64() / f64::from(reps);
+        let t0 = Instant::now();
+        for _ in 0..reps {
+            std::hint::black_box(e.snapshot());
+        }
+        let fresh = t0.elapsed().as_secs_f64() / f64::from(reps);
+        println!(
+            "planar snapshot: {n:4} movers in a group: {:7.2} us built in an older one's buffers | a fresh one {:7.2} us (ratio {:.2})",
+            refilled * 1e6,
+            fresh * 1e6,
+            refilled / fresh
+        );
+    }
+}
