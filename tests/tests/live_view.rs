@@ -73,6 +73,20 @@ fn the_page_shows_the_moving_demo_in_a_real_browser() {
             "{topic} through Foxglove's client: {fox:?}"
         );
     }
+    // `/tf_static` is latched: each node's static frame (published once, at its start, often
+    // before this client subscribed) reaches the late subscriber, as a late DDS reader of a
+    // transient-local writer gets it (without the latch: 2 of 3 here). A node that starts
+    // just as the client subscribes may reach it twice (live and replayed).
+    let tf = &fox["/tf_static"];
+    assert!(
+        (3..=4).contains(&tf.count),
+        "one static transform per node: {tf:?}"
+    );
+    let child = tf.last["transforms"][0]["child_frame_id"].as_str();
+    assert!(
+        child.is_some_and(|c| ["axes_base", "planar_env", "pickplace_mcs"].contains(&c)),
+        "{tf:?}"
+    );
     let shots = workspace().join("target/live-view");
     let run = Command::new("node")
         .arg(workspace().join("tests/web/live_view.mjs"))

@@ -7,7 +7,9 @@
 //! Loopback only unless the launch config names another address. Publishing never waits: a
 //! message is serialized only when a client subscribed to its channel, and the server keeps a
 //! bounded queue per client (the oldest messages are dropped when a client is too slow). The
-//! cycle never touches the feed: the state publishers run on the node's async tasks.
+//! cycle never touches the feed: the state publishers run on the node's async tasks. A
+//! transient-local topic (`/tf_static`) is latched: each client that subscribes gets its
+//! publishers' last messages (see [`latch`]).
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -72,6 +74,81 @@ impl LiveFeed {
 /// The process's feed: its channels by topic, made at the first message of each topic.
 struct Feed {
     channels: Mutex<HashMap<String, Arc<foxglove::RawChannel>>>,
+    /// The last message of each transient-local publisher (`/tf_static` of every node), by
+    /// topic: a client that subscribes later gets them at once, as a late DDS reader gets a
+    /// transient-local writer's samples (the apps' 3D panels need the static frames).
+    latched: Mutex<HashMap<String, Vec<Arc<Mutex<Option<Kept>>>>>>,
+}
+
+/// A latched message: CDR bytes and log time [ns].
+type Kept = (Vec<u8>, u64);
+
+/// One transient-local publisher's place on the feed ([`latch`]).
+pub(crate) struct Latch {
+    last: Arc<Mutex<Option<Kept>>>,
+}
+
+impl Latch {
+    /// Keeps `data` (logged at `log_time`) for clients that subscribe later.
+    pub(crate) fn keep(&self, data: &[u8], log_time: u64) {
+        let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
+        *last = Some((data.to_vec(), log_time));
+    }
+}
+
+/// A place for a transient-local publisher of `topic` whose last message is replayed to each
+/// client that subscribes to the topic; None when this process serves no feed.
+pub(crate) fn latch(topic: &str) -> Option<Latch> {
+    let feed = FEED.get()?;
+    let last = Arc::new(Mutex::new(None));
+    let mut latched = feed.latched.lock().unwrap_or_else(|p| p.into_inner());
+    latched
+        .entry(topic.to_string())
+        .or_default()
+        .push(last.clone());
+    Some(Latch { last })
+}
+
+/// Replays the latched messages of a channel to the client that just subscribed to it (the
+/// server calls this after the subscription is in place, so the client's sink takes them).
+struct Replay;
+
+impl foxglove::websocket::ServerListener for Replay {
+    fn on_subscribe(
+        &self,
+        client: foxglove::websocket::Client,
+        channel: foxglove::websocket::ChannelView,
+    ) {
+        let Some(feed) = FEED.get() else {
+            return;
+        };
+        let kept: Vec<Kept> = {
+            let latched = feed.latched.lock().unwrap_or_else(|p| p.into_inner());
+            let Some(slots) = latched.get(channel.topic()) else {
+                return;
+            };
+            slots
+                .iter()
+                .filter_map(|s| s.lock().unwrap_or_else(|p| p.into_inner()).clone())
+                .collect()
+        };
+        let Some(ch) = feed
+            .channels
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .get(channel.topic())
+            .cloned()
+        else {
+            return;
+        };
+        for (data, log_time) in kept {
+            ch.log_with_meta_to_sink(
+                &data,
+                foxglove::PartialMetadata::with_log_time(log_time),
+                client.sink_id(),
+            );
+        }
+    }
 }
 
 static FEED: OnceLock<Feed> = OnceLock::new();
@@ -85,6 +162,7 @@ pub async fn start(settings: &LiveSettings) -> Result<LiveFeed, LiveError> {
         .name("motion_launch")
         .bind(settings.host.clone(), settings.port)
         .message_backlog_size(4096)
+        .listener(Arc::new(Replay))
         .start()
         .await
         .map_err(|e| LiveError::Server(e.to_string()))?;
@@ -94,6 +172,7 @@ pub async fn start(settings: &LiveSettings) -> Result<LiveFeed, LiveError> {
     let page = crate::page::serve(&settings.host, settings.page_port, feed.port()).await?;
     FEED.set(Feed {
         channels: Mutex::new(HashMap::new()),
+        latched: Mutex::new(HashMap::new()),
     })
     .map_err(|_| LiveError::Twice)?;
     Ok(LiveFeed { server, feed, page })

@@ -427,6 +427,10 @@ pub struct RecordedTopic {
     recorded: std::sync::OnceLock<bool>,
     /// Waits for the writer rather than dropping (see [`RecordedTopic::lossless`]).
     lossless: bool,
+    /// Transient local: the last message is kept for live clients that subscribe later (see
+    /// [`RecordedTopic::latched`]).
+    latched: bool,
+    latch: std::sync::OnceLock<Option<crate::live::Latch>>,
 }
 
 impl RecordedTopic {
@@ -439,7 +443,16 @@ impl RecordedTopic {
             live: std::sync::OnceLock::new(),
             recorded: std::sync::OnceLock::new(),
             lossless: false,
+            latched: false,
+            latch: std::sync::OnceLock::new(),
         }
+    }
+
+    /// This topic is transient local (as `/tf_static`): its last message goes to each client
+    /// of the live feed that subscribes later, as DDS gives it to a late reader.
+    pub fn latched(mut self) -> Self {
+        self.latched = true;
+        self
     }
 
     /// This topic records every message: it waits for the recording's writer instead of
@@ -473,9 +486,12 @@ impl RecordedTopic {
     /// feed (if a client subscribed to the topic); serializes only when someone takes the
     /// message. Never waits, except for the writer when lossless or in a `--cycles` run.
     pub fn take<M: serde::Serialize>(&self, msg: &M, stamp_ns: i64) {
-        let live = self.live_sink();
         let recorded = self.recorded();
-        if !recorded && live.is_none() {
+        let latch = match self.latched {
+            true => self.latch.get_or_init(|| crate::live::latch(&self.topic)),
+            false => &None,
+        };
+        if !recorded && latch.is_none() && self.live_sink().is_none() {
             return;
         }
         let size = self.size.load(std::sync::atomic::Ordering::Relaxed);
@@ -485,7 +501,12 @@ impl RecordedTopic {
         self.size
             .store(data.len(), std::sync::atomic::Ordering::Relaxed);
         let stamp = stamp_ns.max(0) as u64;
-        if let Some(c) = live {
+        // Kept before the feed is asked for subscribers: a client subscribing meanwhile gets
+        // it replayed or live (at worst both), never not at all.
+        if let Some(l) = latch {
+            l.keep(&data, stamp);
+        }
+        if let Some(c) = self.live_sink() {
             c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
         }
         if recorded {
@@ -515,6 +536,12 @@ impl<M: serde::Serialize + motion_msgs::RosType> RecordedPublisher<M> {
     /// This publisher records every message (see [`RecordedTopic::lossless`]).
     pub fn lossless(mut self) -> Self {
         self.topic = self.topic.lossless();
+        self
+    }
+
+    /// This publisher is transient local (see [`RecordedTopic::latched`]).
+    pub fn latched(mut self) -> Self {
+        self.topic = self.topic.latched();
         self
     }
 

@@ -736,7 +736,9 @@ where
             .node
             .create_publisher::<TFMessage>(&topic, None)
             .map_err(err("publisher"))?;
-        let publisher = RecordedPublisher::new(publisher, "/tf_static");
+        // Latched on the live feed too: the apps' 3D panels need it from a client that
+        // connects after the start.
+        let publisher = RecordedPublisher::new(publisher, "/tf_static").latched();
         let [x, y, z, roll, pitch, yaw] = self.settings.tf_pose;
         let msg = TFMessage {
             transforms: vec![TransformStamped {
