@@ -77,15 +77,18 @@ struct Feed {
     /// The last message of each transient-local publisher (`/tf_static` of every node), by
     /// topic: a client that subscribes later gets them at once, as a late DDS reader gets a
     /// transient-local writer's samples (the apps' 3D panels need the static frames).
-    latched: Mutex<HashMap<String, Vec<Arc<Mutex<Option<Kept>>>>>>,
+    latched: Mutex<HashMap<String, Vec<Slot>>>,
 }
 
 /// A latched message: CDR bytes and log time [ns].
 type Kept = (Vec<u8>, u64);
 
+/// One publisher's last latched message (none before its first).
+type Slot = Arc<Mutex<Option<Kept>>>;
+
 /// One transient-local publisher's place on the feed ([`latch`]).
 pub(crate) struct Latch {
-    last: Arc<Mutex<Option<Kept>>>,
+    last: Slot,
 }
 
 impl Latch {
