@@ -4,7 +4,7 @@
 mod common;
 mod track_common;
 use common::*;
-use motion_core::CommandState;
+use motion_core::{CmdId, CommandState};
 use planar_engine::errors::*;
 use planar_engine::*;
 use track_common::*;
@@ -36,15 +36,11 @@ fn gear(
     }
 }
 
-/// W12: master track (100,620)–(860,620), slave track (100,100)–(860,100); both join at s = 0;
-/// master.MoveOnTrack(500); next cycle the slave gears in (sync 100 ↔ 100): it comes to rest at
-/// s = 500 with the master (offset 0); the feedback stays Active (never Done), inSync at rest.
-#[test]
-fn w12_gear_in_with_master_mover() {
-    let mut s = Sim::new(cfg(
-        &[("MA", 100.0, 620.0), ("SL", 100.0, 100.0)],
-        &["TM", "TS"],
-    ));
+/// W12's machine: MA on TM, SL on TS, both joined; MA.MoveOnTrack(500), and a cycle later SL
+/// geared to MA (sync 100 ↔ 100). Returns the simulation, the MoveOnTrack's and the GearIn's
+/// ids.
+fn w12_coupled() -> (Sim, CmdId, CmdId) {
+    let mut s = Sim::new(w12_config());
     s.ok(line("TM", (100.0, 620.0), (860.0, 620.0)));
     s.ok(line("TS", (100.0, 100.0), (860.0, 100.0)));
     enable_track(&mut s, "TM");
@@ -56,6 +52,19 @@ fn w12_gear_in_with_master_mover() {
     let mid = s.ok(mot("MA", "", 500.0));
     s.step();
     let g = s.ok(gear("SL", "MA", &[], 100.0, "TM", 100.0, "TS", false));
+    (s, mid, g)
+}
+
+fn w12_config() -> PlanarConfig {
+    cfg(&[("MA", 100.0, 620.0), ("SL", 100.0, 100.0)], &["TM", "TS"])
+}
+
+/// W12: master track (100,620)–(860,620), slave track (100,100)–(860,100); both join at s = 0;
+/// master.MoveOnTrack(500); next cycle the slave gears in (sync 100 ↔ 100): it comes to rest at
+/// s = 500 with the master (offset 0); the feedback stays Active (never Done), inSync at rest.
+#[test]
+fn w12_gear_in_with_master_mover() {
+    let (mut s, mid, g) = w12_coupled();
     assert_eq!(s.wait_final(mid, 10.0), CommandState::Done);
     s.steps(2000);
     assert_eq!(s.state(g), Some(CommandState::Active), "GearIn has no Done");
@@ -219,49 +228,13 @@ fn invalid_trails() {
 fn snapshot_into_an_old_snapshot_equals_a_fresh_one() {
     use motion_core::Engine;
     // W12's coupling: SL geared to MA, MA moving.
-    let mut geared = Sim::new(cfg(
-        &[("MA", 100.0, 620.0), ("SL", 100.0, 100.0)],
-        &["TM", "TS"],
-    ));
-    let mut geared_before = geared.eng.snapshot();
-    geared.ok(line("TM", (100.0, 620.0), (860.0, 620.0)));
-    geared.ok(line("TS", (100.0, 100.0), (860.0, 100.0)));
-    enable_track(&mut geared, "TM");
-    enable_track(&mut geared, "TS");
-    geared.enable("MA");
-    geared.enable("SL");
-    join_wait(&mut geared, "MA", "TM", true);
-    join_wait(&mut geared, "SL", "TS", true);
-    geared.ok(mot("MA", "", 500.0));
-    geared.step();
-    geared.ok(gear("SL", "MA", &[], 100.0, "TM", 100.0, "TS", false));
+    let mut geared_before = Sim::new(w12_config()).eng.snapshot();
+    let (mut geared, _, _) = w12_coupled();
     geared.steps(200);
-    // W19's group: movers A, B and track T members of G, A moving on T.
-    let mut c = cfg(
-        &[("A", 0.0, 0.0), ("B", 240.0, 320.0), ("C", 700.0, 500.0)],
-        &["T"],
-    );
-    c.groups = vec![GroupConfig {
-        name: "G".into(),
-        oid: 0,
-    }];
-    let mut grouped = Sim::new(c);
-    let mut grouped_before = grouped.eng.snapshot();
-    grouped.ok(line("T", (0.0, 0.0), (400.0, 0.0)));
-    enable_track(&mut grouped, "T");
-    grouped.enable_group("G");
-    grouped.enable("A");
-    grouped.enable("B");
-    for m in ["A", "B"] {
-        grouped.ok(PlanarCommand::MoverAddToGroup {
-            mover: m.into(),
-            group: "G".into(),
-        });
-    }
-    grouped.ok(PlanarCommand::TrackAddToGroup {
-        track: "T".into(),
-        group: "G".into(),
-    });
+    // W19's group: movers A, B and track T members of G (C not), A moving on T.
+    let movers = [("A", 0.0, 0.0), ("B", 240.0, 320.0), ("C", 700.0, 500.0)];
+    let mut grouped_before = Sim::new(group_config(&movers)).eng.snapshot();
+    let mut grouped = group_with_track(&movers, &["A", "B"]);
     join_wait(&mut grouped, "A", "T", true);
     grouped.ok(mot("A", "", 150.0));
     grouped.steps(100);

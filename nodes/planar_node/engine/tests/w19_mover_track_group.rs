@@ -14,27 +14,7 @@ use track_common::*;
 
 #[test]
 fn w19_mover_track_and_group() {
-    let mut c = cfg(&[("A", 0.0, 0.0), ("B", 240.0, 0.0)], &["T"]);
-    c.groups = vec![GroupConfig {
-        name: "G".into(),
-        oid: 0,
-    }];
-    let mut s = Sim::new(c);
-    s.ok(line("T", (0.0, 0.0), (400.0, 0.0)));
-    enable_track(&mut s, "T");
-    s.enable_group("G");
-    s.enable("A");
-    s.enable("B");
-    for m in ["A", "B"] {
-        s.ok(PlanarCommand::MoverAddToGroup {
-            mover: m.into(),
-            group: "G".into(),
-        });
-    }
-    s.ok(PlanarCommand::TrackAddToGroup {
-        track: "T".into(),
-        group: "G".into(),
-    });
+    let mut s = group_with_track(&[("A", 0.0, 0.0), ("B", 240.0, 0.0)], &["A", "B"]);
     let g = s.snap().group("G").unwrap().clone();
     assert_eq!(g.member_count, 3);
     assert_eq!(g.tracks, vec!["T"]);

@@ -143,3 +143,36 @@ pub fn circle_loop_named(s: &mut Sim, t: &str, r: f64) {
 pub fn in_end_range(o: &OnTrackSnapshot, track: &str, length: f64, range: f64) -> bool {
     o.track == track && o.set_pos > length - range + 1e-6
 }
+
+/// W19's configuration: the movers, track T and group G.
+pub fn group_config(movers: &[(&str, f64, f64)]) -> PlanarConfig {
+    let mut c = cfg(movers, &["T"]);
+    c.groups = vec![GroupConfig {
+        name: "G".into(),
+        oid: 0,
+    }];
+    c
+}
+
+/// W19's machine: track T (0,0)–(400,0) and group G enabled, the movers enabled, `members` and
+/// T added to G.
+pub fn group_with_track(movers: &[(&str, f64, f64)], members: &[&str]) -> Sim {
+    let mut s = Sim::new(group_config(movers));
+    s.ok(line("T", (0.0, 0.0), (400.0, 0.0)));
+    enable_track(&mut s, "T");
+    s.enable_group("G");
+    for (m, _, _) in movers {
+        s.enable(m);
+    }
+    for m in members {
+        s.ok(PlanarCommand::MoverAddToGroup {
+            mover: m.to_string(),
+            group: "G".into(),
+        });
+    }
+    s.ok(PlanarCommand::TrackAddToGroup {
+        track: "T".into(),
+        group: "G".into(),
+    });
+    s
+}
