@@ -27,10 +27,7 @@ pub fn reuse_strs<'a>(
     let mut n = 0;
     for s in names {
         match old.get_mut(n) {
-            Some(o) => {
-                o.clear();
-                o.push_str(s);
-            }
+            Some(o) => *o = reuse_str(std::mem::take(o), s),
             None => old.push(s.to_owned()),
         }
         n += 1;

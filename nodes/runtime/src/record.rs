@@ -487,9 +487,12 @@ impl RecordedTopic {
     /// message. Never waits, except for the writer when lossless or in a `--cycles` run.
     pub fn take<M: serde::Serialize>(&self, msg: &M, stamp_ns: i64) {
         let recorded = self.recorded();
-        let latch = match self.latched {
-            true => self.latch.get_or_init(|| crate::live::latch(&self.topic)),
-            false => &None,
+        let latch = if self.latched {
+            self.latch
+                .get_or_init(|| crate::live::latch(&self.topic))
+                .as_ref()
+        } else {
+            None
         };
         if !recorded && latch.is_none() && self.live_sink().is_none() {
             return;

@@ -32,21 +32,34 @@ fn grid(n: usize) -> PlanarConfig {
     }
 }
 
+/// The engine of [`grid`]`(n)` with every mover enabled, one cycle stepped: (config, engine,
+/// the next tick, the event buffer).
+fn enabled_grid(
+    n: usize,
+) -> (
+    PlanarConfig,
+    PlanarEngine,
+    u64,
+    Vec<motion_core::CommandEvent>,
+) {
+    let cfg = grid(n);
+    let mut e = PlanarEngine::new(cfg.clone()).expect("planar config");
+    let (mut tick, mut ev) = (0, Vec::new());
+    for m in &cfg.movers {
+        e.command(PlanarCommand::MoverEnable {
+            mover: m.name.clone(),
+        })
+        .expect("enable");
+    }
+    step(&mut e, &mut tick, &mut ev);
+    (cfg, e, tick, ev)
+}
+
 /// Every mover shuttles 60 mm within its cell of the grid (even: along X, odd: along Y),
 /// so all move at once and the guard checks neighbours that come close.
 pub fn step_cost(counts: &[usize], steps: u64) {
     for &n in counts {
-        let cfg = grid(n);
-        let mut e = PlanarEngine::new(cfg.clone()).expect("planar config");
-        let mut ev = Vec::new();
-        let mut tick = 0;
-        for m in &cfg.movers {
-            e.command(PlanarCommand::MoverEnable {
-                mover: m.name.clone(),
-            })
-            .expect("enable");
-        }
-        step(&mut e, &mut tick, &mut ev);
+        let (cfg, mut e, mut tick, mut ev) = enabled_grid(n);
         let (mut total, mut samples, mut moving_sum) = (0.0, 0u64, 0usize);
         let mut k = 0u64;
         while samples < steps {
@@ -100,15 +113,7 @@ pub fn step_cost(counts: &[usize], steps: u64) {
 /// allocated and later dropped), `n` movers of the grid, all members of the group.
 pub fn snapshot_cost(counts: &[usize], reps: u32) {
     for &n in counts {
-        let cfg = grid(n);
-        let mut e = PlanarEngine::new(cfg.clone()).expect("planar config");
-        let (mut tick, mut ev) = (0, Vec::new());
-        for m in &cfg.movers {
-            e.command(PlanarCommand::MoverEnable {
-                mover: m.name.clone(),
-            })
-            .expect("enable");
-        }
+        let (cfg, mut e, mut tick, mut ev) = enabled_grid(n);
         e.command(PlanarCommand::GroupEnable { group: "G".into() })
             .expect("group enable");
         // Enabling takes a while (enable_time 0 for the movers, not for the group).
