@@ -81,6 +81,27 @@ def reliable_qos(depth=10, transient_local=False):
     return Qos(*policies)
 
 
+# Cyclone DDS 11.0.1 (the PyPI wheel) builds a new topic's serializer by walking the domain's
+# type-dependency tree without taking its lock (ddspy_topic_create ->
+# ddsi_topic_descriptor_from_type -> ddsi_type_resolved_locked), while its "gc" thread frees the
+# types of deleted readers, writers and topics from that tree. A topic made just after another
+# was dropped crashed the peer now and then (SIGSEGV in that walk, seen under gdb; about once in
+# 20 000 service clients made and dropped). Cyclone frees a type only when its last user goes,
+# so every type a peer uses is also held by a topic of one participant per domain that lives as
+# long as the process: the tree then never shrinks, and grows only on the thread that walks it.
+_TYPE_KEEPERS = {}  # domain id -> (participant, {data type: Topic})
+
+
+def topic(domain_id, dp, name, data_type):
+    """Topic(dp, name, data_type), its type kept for the life of the process (see above)."""
+    if domain_id not in _TYPE_KEEPERS:
+        _TYPE_KEEPERS[domain_id] = (DomainParticipant(domain_id), {})
+    keeper, kept = _TYPE_KEEPERS[domain_id]
+    if data_type not in kept:
+        kept[data_type] = Topic(keeper, name, data_type)
+    return Topic(dp, name, data_type)
+
+
 def _with_cyclone_header(cls):
     """The same struct with rmw_cyclonedds's request header in front (same DDS type name)."""
     hints = typing.get_type_hints(cls, include_extras=True)
@@ -110,6 +131,7 @@ class Peer:
 
     def __init__(self, domain_id, msgs_dir=os.path.join(ROOT, "msgs")):
         self.types = gen_python_types.load_types(msgs_dir)
+        self.domain_id = domain_id
         self.dp = DomainParticipant(domain_id)
         self._guid = random.getrandbits(63) or 1
         self._headered = {}
@@ -123,8 +145,11 @@ class Peer:
         return self._headered[ros_name]
 
     # Topics -----------------------------------------------------------------------------
+    def topic(self, dds_name, data_type):
+        return topic(self.domain_id, self.dp, dds_name, data_type)
+
     def subscribe(self, topic, ros_type, transient_local=False):
-        t = Topic(self.dp, _dds_name("rt", topic), self.types[ros_type])
+        t = self.topic(_dds_name("rt", topic), self.types[ros_type])
         return DataReader(self.dp, t, qos=reliable_qos(transient_local=transient_local))
 
     def take_one(self, reader, timeout=10.0):
@@ -154,8 +179,8 @@ class ServiceClient:
         resp_t = peer.headered(response_type or f"{srv_type}_Response")
         self.req_fields = [k for k in typing.get_type_hints(req_t) if not k.startswith("cdds_")]
         self.req_t = req_t
-        rq = Topic(peer.dp, _dds_name("rq", name, "Request"), req_t)
-        rr = Topic(peer.dp, _dds_name("rr", name, "Reply"), resp_t)
+        rq = peer.topic(_dds_name("rq", name, "Request"), req_t)
+        rr = peer.topic(_dds_name("rr", name, "Reply"), resp_t)
         self.writer = DataWriter(peer.dp, rq, qos=reliable_qos())
         self.reader = DataReader(peer.dp, rr, qos=reliable_qos())
         self.seq = 0

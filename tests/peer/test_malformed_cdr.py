@@ -20,7 +20,6 @@ from cyclonedds.domain import DomainParticipant  # noqa: E402
 from cyclonedds.idl import IdlStruct  # noqa: E402
 from cyclonedds.idl import types as idl  # noqa: E402
 from cyclonedds.pub import DataWriter  # noqa: E402
-from cyclonedds.topic import Topic  # noqa: E402
 
 TYPENAME = "motion_msgs::srv::dds_::Power_Request_"
 CONFIG = """
@@ -86,7 +85,7 @@ class MalformedCdr(unittest.TestCase):
     def test_malformed_requests_are_dropped_and_the_node_keeps_serving(self):
         for name, sample in variants():
             dp = DomainParticipant(self.domain)
-            topic = Topic(dp, "rq/axis_node/powerRequest", type(sample))
+            topic = ros2_peer.topic(self.domain, dp, "rq/axis_node/powerRequest", type(sample))
             w = DataWriter(dp, topic, qos=ros2_peer.reliable_qos())
             deadline = time.monotonic() + 10
             while not w.get_matched_subscriptions() and time.monotonic() < deadline:
