@@ -114,7 +114,7 @@ fn axis_state_round_trips_and_has_its_constants() {
     assert_eq!(msg::AxisState::MC_AXISSTATE_SYNCHRONIZEDMOTION, 8);
     assert_eq!(from_cdr::<msg::AxisState>(&cdr(&s)), s);
     let arr = msg::AxisStateArray {
-        stamp: Time::default(),
+        header: Header::default(),
         axes: vec![s.clone(), s],
     };
     assert_eq!(from_cdr::<msg::AxisStateArray>(&cdr(&arr)), arr);

@@ -133,7 +133,10 @@ fn a_reader_with_only_the_definition_decodes_our_messages() {
     let samples = [
         sample(
             &msg::AxisStateArray {
-                stamp: stamp.clone(),
+                header: Header {
+                    stamp: stamp.clone(),
+                    frame_id: String::new(),
+                },
                 axes: vec![
                     msg::AxisState {
                         name: "x".into(),
@@ -151,7 +154,7 @@ fn a_reader_with_only_the_definition_decodes_our_messages() {
                 ],
             },
             &[
-                "m.stamp.sec == 12 and m.stamp.nanosec == 345",
+                "m.header.stamp.sec == 12 and m.header.stamp.nanosec == 345",
                 "[a.name for a in m.axes] == ['x', 'yz']",
                 "m.axes[0].motion_state == 6 and m.axes[0].set_pos == 1.25",
                 "m.axes[0].power_status is True and m.axes[0].cmd_no == 513",
@@ -198,7 +201,10 @@ fn a_reader_with_only_the_definition_decodes_our_messages() {
         ),
         sample(
             &msg::PlanarState {
-                stamp,
+                header: Header {
+                    stamp,
+                    frame_id: String::new(),
+                },
                 movers: vec![msg::PlanarMoverState {
                     name: "m1".into(),
                     oid: 0x0106_0001,
@@ -210,6 +216,7 @@ fn a_reader_with_only_the_definition_decodes_our_messages() {
             &[
                 "m.movers[0].name == 'm1' and m.movers[0].oid == 0x01060001",
                 "m.movers[0].state == 3 and len(m.tracks) == 0",
+                "m.header.stamp.sec == 12 and m.header.frame_id == ''",
             ],
         ),
         sample(

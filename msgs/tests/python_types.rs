@@ -132,7 +132,7 @@ fn python_cyclonedds_types_serialize_like_rust() {
         (
             "axis_state_array",
             cdr(&msg::AxisStateArray {
-                stamp: Time::default(),
+                header: Default::default(),
                 axes: vec![axis("a"), axis("bc")],
             }),
         ),

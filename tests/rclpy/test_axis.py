@@ -201,7 +201,7 @@ def test_state_topics_are_stamped_with_the_system_clock(node):
     rnode, ex, _ = node
     for _ in range(5):
         m = take(rnode, ex, AxisStateArray, "/axis_node/axis_states")
-        age = rnode.get_clock().now().nanoseconds - stamp_ns(m.stamp)
+        age = rnode.get_clock().now().nanoseconds - stamp_ns(m.header.stamp)
         assert -5e6 < age < 50e6, f"stamp {age / 1e6:.1f} ms from the client's clock"
         js = take(rnode, ex, JointState, "/joint_states")
         age = rnode.get_clock().now().nanoseconds - stamp_ns(js.header.stamp)

@@ -60,7 +60,7 @@ def test_lockstep_step_and_clock(stepped):
     clocks, stamps = [], []
     subs = [rnode.create_subscription(Clock, "/clock", lambda c: clocks.append(ns(c.clock)), 10),
             rnode.create_subscription(AxisStateArray, "/stepped/axis_states",
-                                      lambda s: stamps.append(ns(s.stamp)), 10)]
+                                      lambda s: stamps.append(ns(s.header.stamp)), 10)]
     spin_until(ex, lambda: rnode.count_publishers("/clock") > 0, 10, "the /clock publisher")
     before = call(rnode, ex, StepCycles, "/stepped/step", cycles=0)
     r = call(rnode, ex, StepCycles, "/stepped/step", cycles=500)
@@ -84,7 +84,7 @@ def test_use_sim_time_follows_the_users_clock(follower):
     t0 = 5_000 * 10**9
     stamps = []
     sub = rnode.create_subscription(AxisStateArray, "/follower/axis_states",
-                                    lambda s: stamps.append(ns(s.stamp)), 10)
+                                    lambda s: stamps.append(ns(s.header.stamp)), 10)
     sent = []
 
     def publish_until(times, cond, what):

@@ -383,7 +383,7 @@ t = []
 with open(sys.argv[1], 'rb') as f:
     r = make_reader(f, decoder_factories=[DecoderFactory()])
     for schema, channel, message, m in r.iter_decoded_messages(topics=['/axis_node/axis_states'], log_time_order=True):
-        t.append(m.stamp.sec * 1000000000 + m.stamp.nanosec)
+        t.append(m.header.stamp.sec * 1000000000 + m.header.stamp.nanosec)
         assert len(m.axes) == 10
 d = [b - a for a, b in zip(t, t[1:])]
 print(len(t), t[0], min(d), max(d))

@@ -39,13 +39,13 @@ async fn free_running_stamps_are_the_system_clock() {
         while let Ok(Some((newer, _))) = states.take() {
             s = newer;
         }
-        let age = system_ns() - ns(&s.stamp);
+        let age = system_ns() - ns(&s.header.stamp);
         assert!(
             (-5_000_000..1_000_000_000).contains(&age),
             "sample {k}: stamp is {} ms from the system clock",
             age as f64 * 1e-6
         );
-        assert_eq!(ns(&s.axes[0].stamp), ns(&s.stamp));
+        assert_eq!(ns(&s.axes[0].header.stamp), ns(&s.header.stamp));
         ages.push(age);
     }
     ages.sort_unstable();
@@ -114,10 +114,14 @@ async fn use_sim_time_follows_an_external_clock() {
     within(10.0, "a sample stamped 1000.25 s", async {
         loop {
             let (m, _) = states.async_take().await.unwrap();
-            if ns(&m.stamp) == t0 + 250_000_000 {
+            if ns(&m.header.stamp) == t0 + 250_000_000 {
                 break;
             }
-            assert!(ns(&m.stamp) >= t0, "stamp {:?} before the clock", m.stamp);
+            assert!(
+                ns(&m.header.stamp) >= t0,
+                "stamp {:?} before the clock",
+                m.header.stamp
+            );
         }
     })
     .await;
@@ -161,7 +165,7 @@ async fn lockstep_publishes_every_cycle_of_a_step() {
                 StepCycles::service_type_name(),
             )
             .await;
-        let cycle_of = |s: &AxisStateArray| ns(&s.stamp) / 1_000_000;
+        let cycle_of = |s: &AxisStateArray| ns(&s.header.stamp) / 1_000_000;
         // Step until the subscription is matched and a state arrives.
         let mut last = within(20.0, "first state", async {
             loop {

@@ -6,7 +6,7 @@ use motion_msgs::deps::sensor_msgs::msg::JointState;
 use motion_msgs::deps::std_msgs::msg::Header;
 use motion_msgs::msg::{AxisState, AxisStateArray};
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::stamp;
+use motion_runtime::shell::{header, stamp};
 use motion_runtime::{NodeShell, ShellError};
 
 /// One axis as `motion_msgs/AxisState`.
@@ -24,7 +24,7 @@ pub fn axis_state_into(a: &AxisStatus, stamp: Time, m: &mut AxisState) {
         name.push_str(&a.name);
     }
     *m = AxisState {
-        stamp,
+        header: header(stamp),
         name,
         motion_state: a.motion_state as u8,
         state_dword: a.state_dword,
@@ -71,8 +71,8 @@ pub fn axis_state_into(a: &AxisStatus, stamp: Time, m: &mut AxisState) {
 
 /// All axes as `motion_msgs/AxisStateArray`, into `m` (its entries refilled in place).
 pub fn axis_state_array_into(s: &Stamped<AxisSnapshot>, m: &mut AxisStateArray) {
-    let AxisStateArray { stamp: at, axes } = m;
-    *at = stamp(s);
+    let AxisStateArray { header: at, axes } = m;
+    *at = header(stamp(s));
     axes.resize_with(s.state.axes.len(), AxisState::default);
     for (a, m) in s.state.axes.iter().zip(axes) {
         axis_state_into(a, stamp(s), m);

@@ -343,7 +343,7 @@ impl Numbered {
     /// Stamps `events` with `t` and numbers them into `batch`.
     fn number(&mut self, events: Vec<AxisEvent>, t: Time, batch: &mut Vec<AxisEvent>) {
         for mut e in events {
-            e.stamp = t.clone();
+            e.header = motion_runtime::shell::header(t.clone());
             e.seq = self.seq;
             self.seq += 1;
             batch.push(e);
@@ -356,7 +356,7 @@ impl Numbered {
         let dds: Vec<AxisEvent> = batch
             .into_iter()
             .filter_map(|e| {
-                let at = motion_runtime::record::time_ns(&e.stamp);
+                let at = motion_runtime::record::time_ns(&e.header.stamp);
                 publisher.record(e, at)
             })
             .collect();

@@ -27,7 +27,7 @@ use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::msg::AxesGroupState;
 use motion_msgs::srv::*;
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::stamp;
+use motion_runtime::shell::{header, stamp};
 use motion_runtime::{ActionBinding, CommandLabel, NodeShell, ShellError};
 use ros2_client::{ActionTypeName, Message, ServiceTypeName};
 use std::sync::{Arc, Mutex};
@@ -35,7 +35,7 @@ use std::sync::{Arc, Mutex};
 /// The group's state as `motion_msgs/AxesGroupState`.
 pub fn group_state(s: &GroupStatus, stamp: Time) -> AxesGroupState {
     AxesGroupState {
-        stamp,
+        header: header(stamp),
         name: s.name.clone(),
         state: s.state as u8,
         constant_velocity: s.constant_velocity,

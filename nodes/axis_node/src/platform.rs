@@ -11,7 +11,7 @@ use motion_core::Rejection;
 use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::msg::{PlatformAxisStatus, PlatformMcMessage};
 use motion_msgs::srv::*;
-use motion_runtime::shell::stamp;
+use motion_runtime::shell::{header, stamp};
 use motion_runtime::{CommandLabel, NodeShell, ShellError};
 
 type Decoded = Result<(AxisCommand, CommandLabel), Rejection>;
@@ -23,7 +23,7 @@ fn platform(object: &str, command: &str, c: PlatformCommand) -> Decoded {
 /// The platform state as `motion_msgs/PlatformStatus`.
 pub fn platform_status(p: &PlatformStatus, stamp: Time) -> motion_msgs::msg::PlatformStatus {
     motion_msgs::msg::PlatformStatus {
-        stamp,
+        header: header(stamp),
         profile: match p.profile {
             PlatformProfile::Tc2Mc2 => motion_msgs::msg::PlatformStatus::PROFILE_TC2_MC2,
             PlatformProfile::IsgMcp => motion_msgs::msg::PlatformStatus::PROFILE_ISG_MCP,

@@ -10,7 +10,7 @@ use motion_msgs::msg::{
     BeltWorkpiece, BeltWorkpieces, PickPlaceBelt, PickPlaceEvent, PickPlaceState,
 };
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::{resolve_name, stamp, stamp_ns};
+use motion_runtime::shell::{header, resolve_name, stamp, stamp_ns};
 use motion_runtime::{NodeShell, ShellError};
 use pickplace_engine::belt::WorkpieceEventKind;
 use pickplace_engine::snapshot::{BeltSnapshot, ProfilePhase, WorkpieceSnapshot};
@@ -59,7 +59,7 @@ pub fn state(s: &Stamped<CellSnapshot>) -> PickPlaceState {
     let o = &c.outputs;
     let p = c.active_profile;
     PickPlaceState {
-        stamp: stamp(s),
+        header: header(stamp(s)),
         cycle: s.cycle,
         state: c.state as u8,
         tcp_x: c.tcp[0],
@@ -142,7 +142,7 @@ pub fn state(s: &Stamped<CellSnapshot>) -> PickPlaceState {
 /// `~/workpieces`: every tracked workpiece of every belt.
 pub fn workpieces(s: &Stamped<CellSnapshot>) -> BeltWorkpieces {
     BeltWorkpieces {
-        stamp: stamp(s),
+        header: header(stamp(s)),
         workpieces: s
             .state
             .cell
@@ -153,10 +153,10 @@ pub fn workpieces(s: &Stamped<CellSnapshot>) -> BeltWorkpieces {
     }
 }
 
-/// One cell event as `motion_msgs/PickPlaceEvent` (`stamp` = ROS time of its cycle).
+/// One cell event as `motion_msgs/PickPlaceEvent` (header stamp = ROS time of its cycle).
 pub fn event(e: &CellEvent, stamp: Time) -> PickPlaceEvent {
     let base = PickPlaceEvent {
-        stamp,
+        header: header(stamp),
         ..Default::default()
     };
     match *e {
@@ -462,7 +462,7 @@ mod tests {
             (e.cycle, e.kind, e.from_state, e.to_state),
             (7, PickPlaceEvent::KIND_STATE_CHANGED, 1, 9)
         );
-        assert_eq!((e.stamp.sec, e.stamp.nanosec), (0, 8_000_000));
+        assert_eq!((e.header.stamp.sec, e.header.stamp.nanosec), (0, 8_000_000));
         let e = event(
             &CellEvent::GripperPulse {
                 cycle: 3,

@@ -16,7 +16,7 @@ use motion_msgs::msg::{
     PlanarEnvironmentState, PlanarGroupState, PlanarMoverState, PlanarPartState, PlanarState,
 };
 use motion_runtime::cycle::Stamped;
-use motion_runtime::shell::stamp;
+use motion_runtime::shell::{header, stamp};
 use motion_runtime::{NodeShell, ShellError};
 use planar_engine::{MoverSnapshot, PlanarConfig, PlanarEngine, PlanarSnapshot};
 use std::sync::Arc;
@@ -123,7 +123,7 @@ pub fn planar_state(s: &Stamped<PlanarSnapshot>) -> PlanarState {
     let st = &s.state;
     let e = &st.environment;
     PlanarState {
-        stamp: stamp(s),
+        header: header(stamp(s)),
         environment: PlanarEnvironmentState {
             name: e.name.clone(),
             oid: e.oid,
@@ -184,7 +184,8 @@ fn mover_pose(m: &MoverSnapshot) -> Pose {
     }
 }
 
-fn header(t: Time) -> Header {
+/// A header in the environment's frame [`FRAME_ID`] (poses in metres).
+fn frame_header(t: Time) -> Header {
     Header {
         stamp: t,
         frame_id: FRAME_ID.to_string(),
@@ -195,7 +196,7 @@ fn header(t: Time) -> Header {
 /// as in `~/state`).
 pub fn mover_poses(s: &Stamped<PlanarSnapshot>) -> PoseArray {
     PoseArray {
-        header: header(stamp(s)),
+        header: frame_header(stamp(s)),
         poses: s.state.movers.iter().map(mover_pose).collect(),
     }
 }
@@ -270,7 +271,7 @@ fn boundary_lines(tiles: &[[f64; 2]], z: f64) -> Vec<Point> {
 /// grey otherwise), the tracks (ns `tracks`, [`crate::tracks::track_markers`]), each mover as a box of its configured size coloured by its state (ns
 /// `movers`, id = configuration index) with its name above it (ns `mover_names`).
 pub fn markers(geometry: &Geometry, s: &Stamped<PlanarSnapshot>) -> MarkerArray {
-    let h = header(stamp(s));
+    let h = frame_header(stamp(s));
     let tiles = geometry.stators(&s.state);
     let mut out = Vec::with_capacity(2 + 2 * s.state.movers.len() + s.state.tracks.len());
     let action = |empty: bool| if empty { Marker::DELETE } else { Marker::ADD };

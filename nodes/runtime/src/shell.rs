@@ -328,6 +328,17 @@ pub fn stamp<S>(s: &Stamped<S>) -> Time {
     stamp_ns(s.ros_time_ns)
 }
 
+/// The `std_msgs/Header` of the suite's own messages: `stamp`, and `frame_id` empty (their
+/// values are in the manuals' units and the machine's own coordinates; poses in tf frames go
+/// on the geometry and marker topics). With a header, Foxglove, Lichtblick and PlotJuggler
+/// can plot them by their stamp rather than by the time they arrived.
+pub fn header(stamp: Time) -> Header {
+    Header {
+        stamp,
+        frame_id: String::new(),
+    }
+}
+
 /// The absolute ROS name of a private (`~/rel`) name of this node (after `--ros-args -r`).
 pub fn private_name(settings: &ShellSettings, rel: &str) -> Result<Name, ShellError> {
     let ns = settings.namespace.trim_end_matches('/');
@@ -589,7 +600,7 @@ where
                 }
                 let o = motion_core::ExecuteOutputs::from(ev.state);
                 let msg = CommandStatus {
-                    stamp: stamp_ns(at),
+                    header: header(stamp_ns(at)),
                     command_id: ev.id.0,
                     object: label.object,
                     command: label.command,
@@ -1532,7 +1543,7 @@ async fn run_goal<E: Engine, B: ActionBinding<E>>(
 /// `~/cycle_stats`: the controller's statistics with their histograms.
 pub fn cycle_stats_message(s: &CycleStats, stamp: Time) -> CycleStatsMsg {
     CycleStatsMsg {
-        stamp,
+        header: header(stamp),
         node: s.node.clone(),
         period: s.period,
         cycles: s.cycles,

@@ -62,7 +62,7 @@ fn joints(t_ms: u64, x: f64) -> JointState {
 
 fn axes(names_pos: &[(&str, f64)]) -> msg::AxisStateArray {
     msg::AxisStateArray {
-        stamp: Time::default(),
+        header: Default::default(),
         axes: names_pos
             .iter()
             .map(|&(n, p)| msg::AxisState {

@@ -116,7 +116,7 @@ function takeMarkers(set, msg, trail) {
 function stampOf(s) { return s.sec + s.nanosec * 1e-9; }
 
 function takeAxes(msg) {
-  const t = stampOf(msg.stamp);
+  const t = stampOf(msg.header.stamp);
   const names = [];
   for (const a of msg.axes) {
     names.push(a.name);
