@@ -3,7 +3,6 @@
 use axis_engine::{AxisEngine, AxisSnapshot, AxisStatus};
 use motion_msgs::deps::builtin_interfaces::msg::Time;
 use motion_msgs::deps::sensor_msgs::msg::JointState;
-use motion_msgs::deps::std_msgs::msg::Header;
 use motion_msgs::msg::{AxisState, AxisStateArray};
 use motion_runtime::cycle::Stamped;
 use motion_runtime::shell::{header, stamp};
@@ -128,10 +127,7 @@ pub fn joint_state_into(s: &Stamped<AxisSnapshot>, joints: &[JointType], js: &mu
         velocity,
         effort,
     } = js;
-    *header = Header {
-        stamp: stamp(s),
-        frame_id: String::new(),
-    };
+    *header = motion_runtime::shell::header(stamp(s));
     if !name
         .iter()
         .map(String::as_str)
@@ -177,6 +173,7 @@ pub(crate) fn register_topics(
 mod tests {
     use super::*;
     use motion_core::Engine;
+    use motion_msgs::deps::std_msgs::msg::Header;
 
     /// REP-103: prismatic mm -> m, revolute deg -> rad.
     #[test]

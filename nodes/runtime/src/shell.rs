@@ -1579,10 +1579,7 @@ pub fn diagnostics_message(node: &str, s: &CycleStats, stamp: Time) -> Diagnosti
         value: v,
     };
     DiagnosticArray {
-        header: Header {
-            stamp,
-            frame_id: String::new(),
-        },
+        header: header(stamp),
         status: vec![DiagnosticStatus {
             level,
             name: format!("{node}: cycle"),
