@@ -19,13 +19,12 @@ use std::io::BufWriter;
 use std::path::Path;
 
 /// A message as it travels over DDS and is recorded: the 4-byte encapsulation header (CDR_LE,
-/// no options), then the CDR body. `size`: the expected length (the buffer is allocated once).
-fn serialized<M: serde::Serialize>(msg: &M, size: usize) -> Result<Vec<u8>, String> {
-    let mut data = Vec::with_capacity(size.max(64));
+/// no options), then the CDR body, into `data` (cleared first).
+fn serialize_into<M: serde::Serialize>(data: &mut Vec<u8>, msg: &M) -> Result<(), String> {
+    data.clear();
     data.extend_from_slice(&[0x00, 0x01, 0x00, 0x00]);
-    to_writer_with_rep_id(&mut data, msg, RepresentationIdentifier::CDR_LE)
-        .map_err(|e| e.to_string())?;
-    Ok(data)
+    to_writer_with_rep_id(&mut *data, msg, RepresentationIdentifier::CDR_LE)
+        .map_err(|e| e.to_string())
 }
 
 /// Why a recording could not be written.
@@ -129,9 +128,23 @@ impl std::io::Seek for Sink {
 /// An MCAP file being written (see the module docs).
 pub struct Recording {
     writer: mcap::Writer<Sink>,
-    /// Topic → (channel id, type name, next sequence number).
-    channels: HashMap<String, (u16, String, u32)>,
+    /// Topic → its index in `channels`.
+    topics: HashMap<String, usize>,
+    channels: Vec<Channel>,
 }
+
+/// A channel of a [`Recording`].
+struct Channel {
+    id: u16,
+    ros_type: String,
+    /// Sequence number of the last message.
+    sequence: u32,
+}
+
+/// A topic's channel in a [`Recording`] ([`Recording::channel`]), to write to without looking
+/// the topic up by name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChannelRef(usize);
 
 impl Recording {
     /// Creates (truncates) the file at `path`, with the MCAP header of the `ros2` profile; its
@@ -165,7 +178,8 @@ impl Recording {
             .create(sink)?;
         Ok(Recording {
             writer,
-            channels: HashMap::new(),
+            topics: HashMap::new(),
+            channels: Vec::new(),
         })
     }
 
@@ -178,8 +192,9 @@ impl Recording {
         stamp_ns: u64,
         msg: &M,
     ) -> Result<(), RecordError> {
-        let data =
-            serialized(msg, 0).map_err(|e| RecordError::Serialize(format!("{topic}: {e}")))?;
+        let mut data = Vec::new();
+        serialize_into(&mut data, msg)
+            .map_err(|e| RecordError::Serialize(format!("{topic}: {e}")))?;
         self.write_cdr(topic, ros_type, stamp_ns, &data)
     }
 
@@ -191,32 +206,23 @@ impl Recording {
         stamp_ns: u64,
         data: &[u8],
     ) -> Result<(), RecordError> {
-        let (channel_id, sequence) = self.channel(topic, ros_type)?;
-        self.writer.write_to_known_channel(
-            &mcap::records::MessageHeader {
-                channel_id,
-                sequence,
-                log_time: stamp_ns,
-                publish_time: stamp_ns,
-            },
-            data,
-        )?;
-        Ok(())
+        let channel = self.channel(topic, ros_type)?;
+        self.write_on(channel, stamp_ns, data)
     }
 
-    /// The channel of `topic`, added with its schema at the first message; the next sequence
-    /// number on it.
-    fn channel(&mut self, topic: &str, ros_type: &str) -> Result<(u16, u32), RecordError> {
-        if let Some((id, ty, seq)) = self.channels.get_mut(topic) {
-            if ty != ros_type {
+    /// The channel of `topic`, of type `ros_type`: added with its schema when new; an error
+    /// when the topic was recorded with another type.
+    pub fn channel(&mut self, topic: &str, ros_type: &str) -> Result<ChannelRef, RecordError> {
+        if let Some(&i) = self.topics.get(topic) {
+            let first = &self.channels[i].ros_type;
+            if first != ros_type {
                 return Err(RecordError::TypeChanged {
                     topic: topic.into(),
-                    first: ty.clone(),
+                    first: first.clone(),
                     second: ros_type.into(),
                 });
             }
-            *seq = seq.wrapping_add(1);
-            return Ok((*id, *seq));
+            return Ok(ChannelRef(i));
         }
         let definition = motion_msgs::message_definition(ros_type)
             .ok_or_else(|| RecordError::UnknownType(ros_type.into()))?;
@@ -226,8 +232,35 @@ impl Recording {
         let id = self
             .writer
             .add_channel(schema, topic, "cdr", &BTreeMap::new())?;
-        self.channels.insert(topic.into(), (id, ros_type.into(), 1));
-        Ok((id, 1))
+        self.channels.push(Channel {
+            id,
+            ros_type: ros_type.into(),
+            sequence: 0,
+        });
+        self.topics.insert(topic.into(), self.channels.len() - 1);
+        Ok(ChannelRef(self.channels.len() - 1))
+    }
+
+    /// Records an already serialized message on `channel` (of this recording) at ROS time
+    /// `stamp_ns`; its sequence number is the channel's next (from 1).
+    pub fn write_on(
+        &mut self,
+        channel: ChannelRef,
+        stamp_ns: u64,
+        data: &[u8],
+    ) -> Result<(), RecordError> {
+        let c = &mut self.channels[channel.0];
+        c.sequence = c.sequence.wrapping_add(1);
+        self.writer.write_to_known_channel(
+            &mcap::records::MessageHeader {
+                channel_id: c.id,
+                sequence: c.sequence,
+                log_time: stamp_ns,
+                publish_time: stamp_ns,
+            },
+            data,
+        )?;
+        Ok(())
     }
 
     /// Writes the summary and index and closes the file.
@@ -238,25 +271,81 @@ impl Recording {
 }
 
 /// The process's recording (`motion_launch --record FILE`): a writer thread that owns the
-/// [`Recording`], fed by every publisher of every node of the process through [`RecordedPublisher`].
-/// Publishers never wait for it (a message that finds the queue full is dropped and counted),
-/// except the state topics of lockstep nodes ([`RecordedPublisher::lossless`]) and every
-/// publisher in a `--cycles` run: those wait.
+/// [`Recording`], fed by every publisher of every node of the process through
+/// [`RecordedPublisher`]. Publishers append their serialized messages to a batch (a buffer of
+/// [`BATCH`] bytes); a full batch goes to the writer, which writes its messages and hands the
+/// buffer back. So a message costs a copy under a short lock, not an allocation and a queue
+/// entry of its own (those, with the page faults of a queue of many small buffers, were a third
+/// of a lockstep cycle's recording cost), and the writer wakes once per batch. At most
+/// [`BATCHES`] buffers exist: a publisher that needs a fresh one when none is free drops its
+/// message (counted) and never waits, except the state topics of lockstep nodes
+/// ([`RecordedPublisher::lossless`]) and every publisher in a `--cycles` run: those wait.
 struct Recorder {
-    tx: std::sync::mpsc::SyncSender<Entry>,
-    dropped: std::sync::atomic::AtomicU64,
+    shared: std::sync::Mutex<Batches>,
+    /// The writer waits here for a full batch (or the end).
+    to_writer: std::sync::Condvar,
+    /// Lossless publishers wait here for a free buffer.
+    to_publishers: std::sync::Condvar,
     /// Only these topics (`--record-topics`); None: every topic.
     topics: Option<std::collections::HashSet<String>>,
 }
 
-enum Entry {
-    Message {
-        topic: std::sync::Arc<str>,
-        ros_type: std::sync::Arc<str>,
-        stamp_ns: u64,
-        data: Vec<u8>,
-    },
-    Finish(std::sync::mpsc::Sender<Result<u64, RecordError>>),
+/// The recorder's buffers and topics (under its lock).
+struct Batches {
+    /// Messages being gathered: per message its [`Frame`], then its bytes.
+    current: Vec<u8>,
+    /// Full batches, oldest first, for the writer.
+    full: std::collections::VecDeque<Vec<u8>>,
+    /// Buffers the writer gave back, empty.
+    free: Vec<Vec<u8>>,
+    /// Buffers that may still be made (of [`BATCHES`]).
+    unmade: usize,
+    /// Topic and type of each recorded topic, by the index its frames carry.
+    topics: Vec<(std::sync::Arc<str>, std::sync::Arc<str>)>,
+    /// Messages dropped for want of a free buffer.
+    dropped: u64,
+    /// Set by [`finish`]: the writer writes what is left, closes the file and answers here.
+    finish: Option<std::sync::mpsc::Sender<Result<u64, RecordError>>>,
+    /// The writer has ended: messages are dropped (counted), nobody waits.
+    ended: bool,
+}
+
+/// Bytes a batch gathers before it goes to the writer (a message longer than that makes a
+/// batch of its own).
+pub const BATCH: usize = 256 << 10;
+
+/// Buffers of [`BATCH`] bytes the recording may hold (about 8 MiB in all): what a held-up
+/// writer lets publishers queue before real-time ones drop and lossless ones wait.
+pub const BATCHES: usize = 32;
+
+/// How long the writer lets a batch fill before it takes it unfilled: the most a message
+/// waits in memory when publishers are slow to fill a batch.
+const BATCH_AGE: std::time::Duration = std::time::Duration::from_millis(5);
+
+/// What precedes each message in a batch: its topic's index, its length and its stamp.
+struct Frame {
+    topic: u32,
+    len: u32,
+    stamp_ns: u64,
+}
+
+impl Frame {
+    const SIZE: usize = 16;
+
+    fn put(&self, out: &mut Vec<u8>) {
+        out.extend_from_slice(&self.topic.to_ne_bytes());
+        out.extend_from_slice(&self.len.to_ne_bytes());
+        out.extend_from_slice(&self.stamp_ns.to_ne_bytes());
+    }
+
+    fn get(b: &[u8]) -> Frame {
+        let word = |i: usize| u32::from_ne_bytes(b[i..i + 4].try_into().expect("4 bytes"));
+        Frame {
+            topic: word(0),
+            len: word(4),
+            stamp_ns: u64::from_ne_bytes(b[8..16].try_into().expect("8 bytes")),
+        }
+    }
 }
 
 static RECORDER: std::sync::OnceLock<Recorder> = std::sync::OnceLock::new();
@@ -272,8 +361,9 @@ pub fn set_record_only(on: bool) {
     RECORD_ONLY.store(on, std::sync::atomic::Ordering::Relaxed);
 }
 
-/// Messages the writer thread may hold before publishers drop instead of waiting.
-const QUEUE: usize = 65_536;
+fn lock(m: &std::sync::Mutex<Batches>) -> std::sync::MutexGuard<'_, Batches> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
 
 /// Starts recording every published message of this process to `path` (once per process),
 /// or with `topics` only those of these topics (absolute names), its chunks compressed as
@@ -283,11 +373,20 @@ pub fn start(
     topics: Option<Vec<String>>,
     compression: Compression,
 ) -> Result<(), RecordError> {
-    let mut rec = Recording::create(path, compression)?;
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Entry>(QUEUE);
+    let rec = Recording::create(path, compression)?;
     let recorder = Recorder {
-        tx,
-        dropped: std::sync::atomic::AtomicU64::new(0),
+        shared: std::sync::Mutex::new(Batches {
+            current: Vec::new(),
+            full: std::collections::VecDeque::new(),
+            free: Vec::new(),
+            unmade: BATCHES,
+            topics: Vec::new(),
+            dropped: 0,
+            finish: None,
+            ended: false,
+        }),
+        to_writer: std::sync::Condvar::new(),
+        to_publishers: std::sync::Condvar::new(),
         topics: topics.map(|t| t.into_iter().collect()),
     };
     if RECORDER.set(recorder).is_err() {
@@ -295,59 +394,194 @@ pub fn start(
             "this process records already",
         )));
     }
+    let recorder = RECORDER.get().expect("set above");
     std::thread::Builder::new()
         .name("recorder".into())
-        .spawn(move || {
-            let mut written = 0u64;
-            let mut failed: Option<RecordError> = None;
-            let mut drained = false;
-            loop {
-                // Take what is queued; once the queue is empty, let it fill for a millisecond
-                // before blocking again: a publisher then wakes this thread about once per
-                // millisecond, not once per message (waking was most of a lockstep cycle).
-                let entry = match rx.try_recv() {
-                    Ok(e) => e,
-                    Err(std::sync::mpsc::TryRecvError::Disconnected) => break,
-                    Err(std::sync::mpsc::TryRecvError::Empty) if !drained => {
-                        drained = true;
-                        std::thread::sleep(std::time::Duration::from_millis(1));
+        .spawn(move || recorder.write(rec))?;
+    Ok(())
+}
+
+impl Recorder {
+    /// The writer thread: writes each batch as it fills (or once its first message is
+    /// [`BATCH_AGE`] old), until [`finish`].
+    fn write(&self, mut rec: Recording) {
+        let mut written = 0u64;
+        let mut failed: Option<RecordError> = None;
+        // The registered topics, and the MCAP channel of each, made at its first message.
+        let mut topics = Vec::new();
+        let mut channels: Vec<Option<ChannelRef>> = Vec::new();
+        let mut shared = lock(&self.shared);
+        loop {
+            let batch = match shared.full.pop_front() {
+                Some(b) => b,
+                None if shared.finish.is_some() => {
+                    let last = std::mem::take(&mut shared.current);
+                    let done = shared.finish.take().expect("checked");
+                    shared.ended = true;
+                    topics.extend_from_slice(&shared.topics[topics.len()..]);
+                    drop(shared);
+                    self.to_publishers.notify_all();
+                    let mut out = Written {
+                        rec: &mut rec,
+                        topics: &topics,
+                        channels: &mut channels,
+                        written: &mut written,
+                        failed: &mut failed,
+                    };
+                    out.batch(&last);
+                    let r = match failed.take() {
+                        Some(e) => Err(e),
+                        None => rec.finish().map(|()| written),
+                    };
+                    let _ = done.send(r);
+                    return;
+                }
+                None if shared.current.is_empty() => {
+                    // Nothing gathered: the first message (or the end) wakes this thread.
+                    shared = self
+                        .to_writer
+                        .wait(shared)
+                        .unwrap_or_else(|p| p.into_inner());
+                    continue;
+                }
+                None => {
+                    let (s, waited) = self
+                        .to_writer
+                        .wait_timeout(shared, BATCH_AGE)
+                        .unwrap_or_else(|p| p.into_inner());
+                    shared = s;
+                    if !waited.timed_out() || shared.current.is_empty() {
                         continue;
                     }
-                    Err(std::sync::mpsc::TryRecvError::Empty) => match rx.recv() {
-                        Ok(e) => e,
-                        Err(_) => break,
-                    },
-                };
-                drained = false;
-                match entry {
-                    Entry::Message {
-                        topic,
-                        ros_type,
-                        stamp_ns,
-                        data,
-                    } => {
-                        if failed.is_none() {
-                            match rec.write_cdr(&topic, &ros_type, stamp_ns, &data) {
-                                Ok(()) => written += 1,
-                                Err(e) => {
-                                    tracing::error!("{e}; recording stopped");
-                                    failed = Some(e);
-                                }
-                            }
-                        }
-                    }
-                    Entry::Finish(done) => {
-                        let r = match failed.take() {
-                            Some(e) => Err(e),
-                            None => rec.finish().map(|()| written),
-                        };
-                        let _ = done.send(r);
-                        return;
+                    // Publishers are slow to fill it: take the batch as it is.
+                    match fresh(&mut shared) {
+                        Some(b) => std::mem::replace(&mut shared.current, b),
+                        None => continue,
                     }
                 }
+            };
+            topics.extend_from_slice(&shared.topics[topics.len()..]);
+            drop(shared);
+            Written {
+                rec: &mut rec,
+                topics: &topics,
+                channels: &mut channels,
+                written: &mut written,
+                failed: &mut failed,
             }
-        })?;
-    Ok(())
+            .batch(&batch);
+            let mut batch = batch;
+            batch.clear();
+            shared = lock(&self.shared);
+            shared.free.push(batch);
+            self.to_publishers.notify_all();
+        }
+    }
+
+    /// The index of `topic` in the frames (registered at its first message).
+    fn register(&self, topic: &std::sync::Arc<str>, ros_type: &std::sync::Arc<str>) -> u32 {
+        let mut shared = lock(&self.shared);
+        shared.topics.push((topic.clone(), ros_type.clone()));
+        (shared.topics.len() - 1) as u32
+    }
+
+    /// Appends a message to the current batch; a full batch goes to the writer. Waits for a
+    /// free buffer only when `lossless` or in a `--cycles` run; otherwise drops (counted).
+    fn append(&self, topic: u32, stamp_ns: u64, data: &[u8], lossless: bool) {
+        let wait = lossless || RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed);
+        let need = Frame::SIZE + data.len();
+        let mut shared = lock(&self.shared);
+        loop {
+            if shared.ended {
+                shared.dropped += 1;
+                return;
+            }
+            if shared.current.is_empty() || shared.current.len() + need <= BATCH {
+                break;
+            }
+            if let Some(b) = fresh(&mut shared) {
+                let full = std::mem::replace(&mut shared.current, b);
+                shared.full.push_back(full);
+                self.to_writer.notify_one();
+            } else if wait {
+                shared = self
+                    .to_publishers
+                    .wait(shared)
+                    .unwrap_or_else(|p| p.into_inner());
+            } else {
+                shared.dropped += 1;
+                return;
+            }
+        }
+        if shared.current.is_empty() {
+            // The writer sleeps until a batch has a first message.
+            self.to_writer.notify_one();
+            if shared.current.capacity() == 0 {
+                shared.current.reserve(BATCH.max(need));
+            }
+        }
+        Frame {
+            topic,
+            len: data.len() as u32,
+            stamp_ns,
+        }
+        .put(&mut shared.current);
+        shared.current.extend_from_slice(data);
+    }
+}
+
+/// The writer thread's recording, as it writes a batch.
+struct Written<'a> {
+    rec: &'a mut Recording,
+    topics: &'a [(std::sync::Arc<str>, std::sync::Arc<str>)],
+    channels: &'a mut Vec<Option<ChannelRef>>,
+    written: &'a mut u64,
+    failed: &'a mut Option<RecordError>,
+}
+
+impl Written<'_> {
+    /// Writes the messages of one batch (nothing once writing failed).
+    fn batch(&mut self, batch: &[u8]) {
+        let mut at = 0;
+        while at < batch.len() && self.failed.is_none() {
+            let frame = Frame::get(&batch[at..at + Frame::SIZE]);
+            let data = &batch[at + Frame::SIZE..at + Frame::SIZE + frame.len as usize];
+            at += Frame::SIZE + frame.len as usize;
+            let i = frame.topic as usize;
+            if self.channels.len() <= i {
+                self.channels.resize(i + 1, None);
+            }
+            let channel = match self.channels[i] {
+                Some(c) => Ok(c),
+                None => {
+                    let (topic, ros_type) = &self.topics[i];
+                    self.rec.channel(topic, ros_type)
+                }
+            };
+            match channel.and_then(|c| {
+                self.channels[i] = Some(c);
+                self.rec.write_on(c, frame.stamp_ns, data)
+            }) {
+                Ok(()) => *self.written += 1,
+                Err(e) => {
+                    tracing::error!("{e}; recording stopped");
+                    *self.failed = Some(e);
+                }
+            }
+        }
+    }
+}
+
+/// A free (or new) buffer, if the recording may have one more.
+fn fresh(shared: &mut Batches) -> Option<Vec<u8>> {
+    if let Some(b) = shared.free.pop() {
+        return Some(b);
+    }
+    if shared.unmade == 0 {
+        return None;
+    }
+    shared.unmade -= 1;
+    Some(Vec::with_capacity(BATCH))
 }
 
 /// True while this process records `topic`.
@@ -357,49 +591,23 @@ fn recording(topic: &str) -> bool {
         .is_some_and(|r| r.topics.as_ref().is_none_or(|t| t.contains(topic)))
 }
 
-/// Hands an already serialized message to the recording; waits for room only when `lossless`
-/// or in a `--cycles` run.
-fn record_serialized(
-    topic: &std::sync::Arc<str>,
-    ros_type: &std::sync::Arc<str>,
-    stamp_ns: u64,
-    data: Vec<u8>,
-    lossless: bool,
-) {
-    let Some(r) = RECORDER.get() else {
-        return;
-    };
-    let entry = Entry::Message {
-        topic: topic.clone(),
-        ros_type: ros_type.clone(),
-        stamp_ns,
-        data,
-    };
-    // A lockstep state topic and a `--cycles` run (record only) are lossless: they wait for
-    // the writer, as simulated time waits for the stream. Otherwise a publisher never waits: a
-    // full queue drops, counted.
-    let sent = if lossless || RECORD_ONLY.load(std::sync::atomic::Ordering::Relaxed) {
-        r.tx.send(entry).map_err(|_| ())
-    } else {
-        r.tx.try_send(entry).map_err(|_| ())
-    };
-    if sent.is_err() {
-        r.dropped.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    }
-}
-
-/// Ends the recording (after the nodes stopped): waits for the queue to be written, writes the
-/// summary and closes the file. Returns the messages written and those dropped; None when this
-/// process did not record.
+/// Ends the recording (after the nodes stopped): waits for what is gathered to be written,
+/// writes the summary and closes the file. Returns the messages written and those dropped;
+/// None when this process did not record.
 pub fn finish() -> Option<Result<(u64, u64), RecordError>> {
     let r = RECORDER.get()?;
     let (tx, rx) = std::sync::mpsc::channel();
-    if r.tx.send(Entry::Finish(tx)).is_err() {
-        return Some(Err(RecordError::Io(std::io::Error::other(
-            "the recorder thread ended",
-        ))));
-    }
-    let dropped = r.dropped.load(std::sync::atomic::Ordering::Relaxed);
+    let dropped = {
+        let mut shared = lock(&r.shared);
+        if shared.ended {
+            return Some(Err(RecordError::Io(std::io::Error::other(
+                "the recording is closed already",
+            ))));
+        }
+        shared.finish = Some(tx);
+        r.to_writer.notify_one();
+        shared.dropped
+    };
     Some(match rx.recv() {
         Ok(Ok(written)) => Ok((written, dropped)),
         Ok(Err(e)) => Err(e),
@@ -420,11 +628,10 @@ pub fn time_ns(t: &motion_msgs::deps::builtin_interfaces::msg::Time) -> i64 {
 pub struct RecordedTopic {
     topic: std::sync::Arc<str>,
     ros_type: std::sync::Arc<str>,
-    /// Length of the last serialized message (the next one is likely as long).
-    size: std::sync::atomic::AtomicUsize,
     live: std::sync::OnceLock<Option<std::sync::Arc<foxglove::RawChannel>>>,
-    /// Whether the recording takes this topic (decided at the first message).
-    recorded: std::sync::OnceLock<bool>,
+    /// The topic's index in the recording's frames; None when the recording does not take
+    /// it (decided at the first message).
+    recorded: std::sync::OnceLock<Option<u32>>,
     /// Waits for the writer rather than dropping (see [`RecordedTopic::lossless`]).
     lossless: bool,
     /// Transient local: the last message is kept for live clients that subscribe later (see
@@ -439,7 +646,6 @@ impl RecordedTopic {
         RecordedTopic {
             topic: topic.to_string().into(),
             ros_type: ros_type.into(),
-            size: std::sync::atomic::AtomicUsize::new(0),
             live: std::sync::OnceLock::new(),
             recorded: std::sync::OnceLock::new(),
             lossless: false,
@@ -464,9 +670,13 @@ impl RecordedTopic {
         self
     }
 
-    /// True when the recording takes this topic.
-    fn recorded(&self) -> bool {
-        *self.recorded.get_or_init(|| recording(&self.topic))
+    /// The recording and this topic's index in it, when the recording takes this topic.
+    fn recorded(&self) -> Option<(&'static Recorder, u32)> {
+        let r = RECORDER.get()?;
+        let index = self.recorded.get_or_init(|| {
+            recording(&self.topic).then(|| r.register(&self.topic, &self.ros_type))
+        });
+        index.map(|i| (r, i))
     }
 
     /// The live feed's channel of this topic while a client subscribes to it.
@@ -479,7 +689,7 @@ impl RecordedTopic {
 
     /// True when a message of this topic would go anywhere (recording or live feed).
     pub fn taken(&self) -> bool {
-        self.recorded() || self.live_sink().is_some()
+        self.recorded().is_some() || self.live_sink().is_some()
     }
 
     /// Records `msg` at ROS time `stamp_ns` (if this process records) and logs it to the live
@@ -494,28 +704,39 @@ impl RecordedTopic {
         } else {
             None
         };
-        if !recorded && latch.is_none() && self.live_sink().is_none() {
+        if recorded.is_none() && latch.is_none() && self.live_sink().is_none() {
             return;
         }
-        let size = self.size.load(std::sync::atomic::Ordering::Relaxed);
-        let Ok(data) = serialized(msg, size) else {
-            return;
-        };
-        self.size
-            .store(data.len(), std::sync::atomic::Ordering::Relaxed);
         let stamp = stamp_ns.max(0) as u64;
-        // Kept before the feed is asked for subscribers: a client subscribing meanwhile gets
-        // it replayed or live (at worst both), never not at all.
-        if let Some(l) = latch {
-            l.keep(&data, stamp);
-        }
-        if let Some(c) = self.live_sink() {
-            c.log_with_meta(&data, foxglove::PartialMetadata::with_log_time(stamp));
-        }
-        if recorded {
-            record_serialized(&self.topic, &self.ros_type, stamp, data, self.lossless);
-        }
+        let send = |data: &mut Vec<u8>| {
+            if serialize_into(data, msg).is_err() {
+                return;
+            }
+            // Kept before the feed is asked for subscribers: a client subscribing meanwhile
+            // gets it replayed or live (at worst both), never not at all.
+            if let Some(l) = latch {
+                l.keep(data, stamp);
+            }
+            if let Some(c) = self.live_sink() {
+                c.log_with_meta(data, foxglove::PartialMetadata::with_log_time(stamp));
+            }
+            if let Some((r, index)) = recorded {
+                r.append(index, stamp, data, self.lossless);
+            }
+        };
+        SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
+            Ok(mut data) => send(&mut data),
+            // Taken again on this thread while a message is out (`/rosout` of a warning that
+            // the live feed logs): a buffer of its own.
+            Err(_) => send(&mut Vec::new()),
+        });
     }
+}
+
+thread_local! {
+    /// Each thread's buffer that messages are serialized into, for the recording and the live
+    /// feed (which copy them): no allocation per message.
+    static SCRATCH: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// A node's publisher whose messages also go to the process's recording and live feed, when

@@ -1,5 +1,5 @@
-//! The recording's queue (`motion_runtime::record`): while its writer is held up, a real-time
-//! topic drops what finds the queue full (counted) and never waits, while a lossless topic (a
+//! The recording's buffers (`motion_runtime::record`): while its writer is held up, a real-time
+//! topic drops what finds them full (counted) and never waits, while a lossless topic (a
 //! lockstep node's state stream) waits and loses nothing. The writer is held up by recording
 //! into a FIFO whose reader starts reading only after a while. Own test binary: a process
 //! records once.
@@ -40,8 +40,9 @@ fn a_lossless_topic_waits_for_the_writer_a_real_time_topic_drops() {
     record::start(&fifo, None, record::Compression::None).expect("recording");
     let lossy = RecordedTopic::new("/lossy", "rosgraph_msgs/msg/Clock");
     let lossless = RecordedTopic::new("/lossless", "rosgraph_msgs/msg/Clock").lossless();
-    // Far more than the queue (65 536) and the writer's chunk hold.
-    let n: i64 = 200_000;
+    // Twice what the recording's buffers hold (a clock message takes 12 bytes and 16 of
+    // framing), far more than the writer's chunk and the pipe hold.
+    let n = (2 * record::BATCHES * record::BATCH / 28) as i64;
     let t0 = Instant::now();
     for i in 0..n {
         lossy.take(&clock(i), i);
