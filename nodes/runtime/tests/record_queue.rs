@@ -60,6 +60,16 @@ fn a_lossless_topic_waits_for_the_writer_a_real_time_topic_drops() {
         "the lossless topic did not wait for the held-up writer"
     );
     let (written, dropped) = record::finish().expect("recording on").expect("closed");
+    // After the end, a lossless topic neither waits nor writes, and a second end is an error.
+    let after = Instant::now();
+    for i in 0..1000 {
+        lossless.take(&clock(n + i), n + i);
+    }
+    assert!(
+        after.elapsed() < Duration::from_secs(1),
+        "waited after the end"
+    );
+    assert!(record::finish().expect("recording on").is_err());
     let bytes = reader.join().unwrap();
     let mut count = std::collections::HashMap::<String, i64>::new();
     let mut last = -1;
