@@ -1,7 +1,8 @@
 //! `motion_launch CONFIG --record FILE` (issue 14 item 3): the demo's three nodes recorded to an
 //! MCAP file of the ROS 2 profile that the PyPI readers (`mcap` + `mcap-ros2-support`) decode
 //! message by message, every state topic of every node on its own channel with its ROS type.
-//! A file that cannot be created is a configuration error (exit 2) before any node starts.
+//! A file that cannot be created is a configuration error (exit 2) before any node starts; one
+//! that fails while the run goes ends it with exit 1 and the cause.
 //! `--cycles N` runs lockstep nodes N cycles without any client and records every cycle
 //! (issue 14 item 4).
 //!
@@ -238,6 +239,35 @@ fn a_recording_that_cannot_be_created_is_a_configuration_error() {
         "{log}"
     );
     assert!(!log.contains("node started"), "{log}");
+}
+
+/// A recording that fails while the run goes (`/dev/full`: no space left on the device) stops
+/// recording, lets the run end (a lockstep run's cycles wait for the recording: they must not
+/// wait for a writer that has given up) and ends it with exit 1 and the cause.
+#[test]
+fn a_recording_that_cannot_be_written_ends_the_run_with_its_cause() {
+    require_netns();
+    let dir = scratch_dir("motion_recording_full");
+    let config = ten_axes_config(&dir, "");
+    let out = Command::new(launcher_bin())
+        .arg(&config)
+        .args(["--cycles", "3000", "--record", "/dev/full"])
+        .env("ROS_DOMAIN_ID", unique_domain().to_string())
+        .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
+        .output()
+        .expect("motion_launch");
+    let _ = std::fs::remove_dir_all(&dir);
+    let log = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("axis_node: ran 3000 cycles"),
+        "{stdout}\n{log}"
+    );
+    assert_eq!(out.status.code(), Some(1), "{log}");
+    assert!(
+        log.contains("motion_launch: recording: ") && log.contains("No space left on device"),
+        "{log}"
+    );
 }
 
 /// The config key `record:` records too (here with `record_compression: zstd`); with a

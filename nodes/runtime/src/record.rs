@@ -33,8 +33,9 @@ pub enum RecordError {
     /// The file could not be created or written.
     #[error("recording: {0}")]
     Io(#[from] std::io::Error),
-    /// The MCAP writer refused (e.g. too many channels).
-    #[error("recording: {0}")]
+    /// The MCAP writer refused (e.g. too many channels) or could not write (e.g. no space
+    /// left on the device).
+    #[error("recording: {}", with_cause(.0))]
     Mcap(#[from] mcap::McapError),
     /// A message could not be serialized.
     #[error("recording: {0}")]
@@ -52,6 +53,15 @@ pub enum RecordError {
         /// Type now given.
         second: String,
     },
+}
+
+/// An error and its cause: the MCAP writer's I/O error says only "I/O error from writing",
+/// its cause what went wrong (e.g. "No space left on device").
+fn with_cause(e: &dyn std::error::Error) -> String {
+    match e.source() {
+        Some(cause) => format!("{e}: {cause}"),
+        None => e.to_string(),
+    }
 }
 
 /// How a recording's chunks are compressed (`record_compression`, `--record-compression`).
