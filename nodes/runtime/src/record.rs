@@ -672,7 +672,7 @@ impl RecordedTopic {
     }
 
     /// This topic records every message: it waits for the recording's writer instead of
-    /// dropping a message that finds its queue full. For the topics of a lockstep node's state
+    /// dropping a message that finds its buffers full. For the topics of a lockstep node's state
     /// stream, where simulated time waits for its observers (every cycle's state is recorded,
     /// also while a client steps the node over DDS); a real-time publisher must never wait.
     pub fn lossless(mut self) -> Self {
