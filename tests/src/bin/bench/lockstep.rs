@@ -226,8 +226,9 @@ pub fn speed(cycles: u64) {
         if ratio >= TARGET { "met" } else { "NOT met" }
     );
     println!(
-        "lockstep recording floor: {:.1} KB per cycle; writing them again, nothing else: MCAP writer {writer:.0}x real time (node/writer {:.2}), with zstd {zstd:.0}x and {zstd_smaller:.1}x smaller, plain file {plain:.0}x (node/file {:.2}); {TARGET:.0}x needs {:.1} GB/s",
+        "lockstep recording floor: {:.1} KB per cycle (files in {}, TMPDIR: a disk scatters the figures, tmpfs does not); writing them again, nothing else: MCAP writer {writer:.0}x real time (node/writer {:.2}), with zstd {zstd:.0}x and {zstd_smaller:.1}x smaller, plain file {plain:.0}x (node/file {:.2}); {TARGET:.0}x needs {:.1} GB/s",
         per_cycle / 1e3,
+        std::env::temp_dir().display(),
         ratio / writer,
         ratio / plain,
         per_cycle * TARGET * 1e3 / 1e9,
