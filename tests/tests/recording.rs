@@ -554,6 +554,87 @@ fn record_topics_take_only_the_topics_named() {
     assert!(got.contains("\nchunks zstd\n"), "{got}");
 }
 
+/// `--record-exclude-topics` (config key `record_exclude_topics`, as `ros2 bag record
+/// --exclude-topics`) records every topic but those named; names must be absolute, the list
+/// not empty.
+#[test]
+fn record_exclude_topics_leave_out_the_topics_named() {
+    require_netns();
+    let dir = scratch_dir("motion_record_exclude");
+    let file = dir.join("most.mcap");
+    let config = ten_axes_config(&dir, "");
+    let run = |config: &std::path::Path, args: &[&str]| {
+        Command::new(launcher_bin())
+            .arg(config)
+            .args(args)
+            .env("ROS_DOMAIN_ID", unique_domain().to_string())
+            .env("RUST_LOG", "warn")
+            .output()
+            .expect("motion_launch")
+    };
+    let f = file.to_string_lossy().to_string();
+    let out = run(
+        &config,
+        &[
+            "--cycles",
+            "200",
+            "--record",
+            &f,
+            "--record-exclude-topics",
+            "/axis_node/axis_states,/joint_states",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (args, needle) in [
+        (
+            vec!["--check", "--record-exclude-topics", "joint_states"],
+            "--record-exclude-topics: 'joint_states' is not an absolute topic name",
+        ),
+        (
+            vec!["--check", "--record-exclude-topics"],
+            "--record-exclude-topics needs topic names",
+        ),
+    ] {
+        let bad = run(&config, &args);
+        let log = String::from_utf8_lossy(&bad.stderr);
+        assert_eq!(bad.status.code(), Some(2), "{args:?}: {log}");
+        assert!(log.contains(needle), "{args:?}: {log}");
+    }
+    std::fs::write(
+        dir.join("key.yaml"),
+        "record_exclude_topics: []\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
+    )
+    .unwrap();
+    let bad = run(&dir.join("key.yaml"), &["--check"]);
+    let log = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(2), "{log}");
+    assert!(
+        log.contains("record_exclude_topics: expected at least one topic"),
+        "{log}"
+    );
+    let got = read_back(&file);
+    let _ = std::fs::remove_dir_all(&dir);
+    let Some(got) = got else { return };
+    let topics: Vec<&str> = got.lines().filter(|l| l.starts_with('/')).collect();
+    for left_out in ["/axis_node/axis_states ", "/joint_states "] {
+        assert!(
+            !topics.iter().any(|t| t.starts_with(left_out)),
+            "{left_out}recorded: {got}"
+        );
+    }
+    for kept in [
+        "/axis_node/axes/a0/state motion_msgs/msg/AxisState 201",
+        "/axis_node/axes/a9/state motion_msgs/msg/AxisState 201",
+        "/clock rosgraph_msgs/msg/Clock 201",
+    ] {
+        assert!(topics.contains(&kept), "{kept} missing: {got}");
+    }
+}
+
 /// `--cycles` needs lockstep nodes: a real-time node is a configuration error (exit 2).
 #[test]
 fn cycles_refuse_real_time_nodes() {

@@ -137,6 +137,8 @@ struct LaunchKeys {
     record: Option<String>,
     /// `record_topics: [/a, /b]`: record only these topics (absolute names).
     record_topics: Option<Vec<String>>,
+    /// `record_exclude_topics: [/a, /b]`: record none of these topics (absolute names).
+    record_exclude_topics: Option<Vec<String>>,
     /// `record_compression: none | zstd`: how the recording's chunks are compressed.
     record_compression: Option<crate::record::Compression>,
     /// `live: true | false | {host, port, page_port}`: the live feed and page.
@@ -199,12 +201,16 @@ fn parse_launch(
                     message: "expected a file name (e.g. run.mcap)".into(),
                 })
             }
-            Some("live") | Some("record_topics") | Some("record_compression") => {}
+            Some("live")
+            | Some("record_topics")
+            | Some("record_exclude_topics")
+            | Some("record_compression") => {}
             _ => {
                 return Err(ConfigError {
                     location: format!("{file}: {}", k.as_str().unwrap_or("?")),
                     message: "unknown key (expected 'nodes' and optionally 'record', \
-                              'record_topics', 'record_compression', 'live')"
+                              'record_topics', 'record_exclude_topics', 'record_compression', \
+                              'live')"
                         .into(),
                 })
             }
@@ -278,18 +284,19 @@ fn parse_launch(
             message: format!("{e} (expected true, false or {{host, port, page_port}})"),
         })?),
     };
-    let record_topics = match map.get("record_topics") {
-        None => None,
-        Some(v) => Some(
-            serde_yaml::from_value::<Vec<String>>(v.clone())
-                .map_err(|e| e.to_string())
-                .and_then(record_topics)
-                .map_err(|message| ConfigError {
-                    location: format!("{file}: record_topics"),
-                    message,
-                })?,
-        ),
+    let topic_list = |key: &str| match map.get(key) {
+        None => Ok(None),
+        Some(v) => serde_yaml::from_value::<Vec<String>>(v.clone())
+            .map_err(|e| e.to_string())
+            .and_then(record_topics)
+            .map(Some)
+            .map_err(|message| ConfigError {
+                location: format!("{file}: {key}"),
+                message,
+            }),
     };
+    let record_topics = topic_list("record_topics")?;
+    let record_exclude_topics = topic_list("record_exclude_topics")?;
     let record_compression = match map.get("record_compression") {
         None => None,
         Some(v) => Some(
@@ -307,13 +314,15 @@ fn parse_launch(
         LaunchKeys {
             record,
             record_topics,
+            record_exclude_topics,
             record_compression,
             live,
         },
     ))
 }
 
-/// The topics of `record_topics` / `--record-topics`: absolute ROS names, at least one.
+/// The topics of `record_topics` / `--record-topics` (and of the exclusions): absolute ROS
+/// names, at least one.
 fn record_topics(topics: Vec<String>) -> Result<Vec<String>, String> {
     if topics.is_empty() {
         return Err("expected at least one topic (e.g. [/joint_states])".into());
@@ -339,6 +348,8 @@ pub struct Args {
     pub record: Option<String>,
     /// `--record-topics /a,/b`: record only these topics.
     pub record_topics: Option<Vec<String>>,
+    /// `--record-exclude-topics /a,/b`: record none of these topics.
+    pub record_exclude_topics: Option<Vec<String>>,
     /// `--record-compression none|zstd`: how the recording's chunks are compressed.
     pub record_compression: Option<crate::record::Compression>,
     /// `--cycles N`: run N cycles of every (lockstep) node as fast as they go, then stop;
@@ -403,6 +414,15 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                 a.record_topics =
                     Some(record_topics(topics).map_err(|e| format!("--record-topics: {e}"))?);
             }
+            "--record-exclude-topics" => {
+                let v = it.next().ok_or(
+                    "--record-exclude-topics needs topic names (e.g. /planar_node/markers)",
+                )?;
+                let topics = v.split(',').map(|t| t.trim().to_string()).collect();
+                a.record_exclude_topics = Some(
+                    record_topics(topics).map_err(|e| format!("--record-exclude-topics: {e}"))?,
+                );
+            }
             "--record-compression" => {
                 let v = it.next().ok_or_else(|| {
                     format!(
@@ -435,7 +455,7 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
     let shutdown = crate::signals::Shutdown::install(program);
     crate::failsafe::install(program);
     crate::logging::init();
-    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap [--record-topics /A,/B] [--record-compression none|zstd]] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
+    let usage = format!("usage: {program} [CONFIG.yaml] [--duration SECONDS] [--check] [--record FILE.mcap [--record-topics /A,/B] [--record-exclude-topics /C,/D] [--record-compression none|zstd]] [--cycles N [--until-idle]] [--live PORT | --no-live] [--ros-args [-p [NODE:]NAME:=VALUE] [-r [NODE:]FROM:=TO] [--params-file FILE] [--]]\n  default config: {default_config}");
     let args = match parse_args(&usage) {
         Ok(a) => a,
         Err(msg) => {
@@ -478,7 +498,20 @@ pub fn main_with(program: &'static str, kinds: &[NodeKind], default_config: &str
         }
     };
     let record = args.record.clone().or(keys.record);
-    let record_topics = args.record_topics.clone().or(keys.record_topics);
+    let record_topics = crate::record::Topics {
+        only: args
+            .record_topics
+            .clone()
+            .or(keys.record_topics)
+            .map(|t| t.into_iter().collect()),
+        exclude: args
+            .record_exclude_topics
+            .clone()
+            .or(keys.record_exclude_topics)
+            .unwrap_or_default()
+            .into_iter()
+            .collect(),
+    };
     let compression = args
         .record_compression
         .or(keys.record_compression)

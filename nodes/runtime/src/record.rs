@@ -296,8 +296,31 @@ struct Recorder {
     to_writer: std::sync::Condvar,
     /// Lossless publishers wait here for a free buffer.
     to_publishers: std::sync::Condvar,
-    /// Only these topics (`--record-topics`); None: every topic.
-    topics: Option<std::collections::HashSet<String>>,
+    /// Which topics are recorded.
+    topics: Topics,
+}
+
+/// Which topics a recording takes (absolute names): every topic, or only those named
+/// (`--record-topics`, `record_topics`), less those excluded (`--record-exclude-topics`,
+/// `record_exclude_topics`, as `ros2 bag record --exclude-topics`).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Topics {
+    /// Only these topics; None: every topic.
+    pub only: Option<std::collections::HashSet<String>>,
+    /// Not these topics.
+    pub exclude: std::collections::HashSet<String>,
+}
+
+impl Topics {
+    /// Every topic.
+    pub fn all() -> Self {
+        Topics::default()
+    }
+
+    /// True when `topic` is recorded.
+    pub fn takes(&self, topic: &str) -> bool {
+        self.only.as_ref().is_none_or(|t| t.contains(topic)) && !self.exclude.contains(topic)
+    }
 }
 
 /// The recorder's buffers and topics (under its lock).
@@ -375,14 +398,9 @@ fn lock(m: &std::sync::Mutex<Batches>) -> std::sync::MutexGuard<'_, Batches> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
-/// Starts recording every published message of this process to `path` (once per process),
-/// or with `topics` only those of these topics (absolute names), its chunks compressed as
-/// `compression` says.
-pub fn start(
-    path: &Path,
-    topics: Option<Vec<String>>,
-    compression: Compression,
-) -> Result<(), RecordError> {
+/// Starts recording every published message of this process to `path` (once per process) on
+/// the topics that `topics` takes, its chunks compressed as `compression` says.
+pub fn start(path: &Path, topics: Topics, compression: Compression) -> Result<(), RecordError> {
     let rec = Recording::create(path, compression)?;
     let recorder = Recorder {
         shared: std::sync::Mutex::new(Batches {
@@ -397,7 +415,7 @@ pub fn start(
         }),
         to_writer: std::sync::Condvar::new(),
         to_publishers: std::sync::Condvar::new(),
-        topics: topics.map(|t| t.into_iter().collect()),
+        topics,
     };
     if RECORDER.set(recorder).is_err() {
         return Err(RecordError::Io(std::io::Error::other(
@@ -596,9 +614,7 @@ fn fresh(shared: &mut Batches) -> Option<Vec<u8>> {
 
 /// True while this process records `topic`.
 fn recording(topic: &str) -> bool {
-    RECORDER
-        .get()
-        .is_some_and(|r| r.topics.as_ref().is_none_or(|t| t.contains(topic)))
+    RECORDER.get().is_some_and(|r| r.topics.takes(topic))
 }
 
 /// Ends the recording (after the nodes stopped): waits for what is gathered to be written,

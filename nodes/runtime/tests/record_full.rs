@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 fn a_full_disk_ends_the_recording_with_an_error_and_no_publisher_waits() {
     record::start(
         std::path::Path::new("/dev/full"),
-        None,
+        record::Topics::all(),
         record::Compression::None,
     )
     .expect("the header is buffered: the file opens");

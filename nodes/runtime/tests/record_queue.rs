@@ -37,7 +37,7 @@ fn a_lossless_topic_waits_for_the_writer_a_real_time_topic_drops() {
         })
     };
     // Uncompressed: compressed, the clock messages would hardly fill the pipe.
-    record::start(&fifo, None, record::Compression::None).expect("recording");
+    record::start(&fifo, record::Topics::all(), record::Compression::None).expect("recording");
     let lossy = RecordedTopic::new("/lossy", "rosgraph_msgs/msg/Clock");
     let lossless = RecordedTopic::new("/lossless", "rosgraph_msgs/msg/Clock").lossless();
     // Twice what the recording's buffers hold (a clock message takes 12 bytes and 16 of

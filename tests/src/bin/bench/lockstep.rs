@@ -203,7 +203,12 @@ pub fn speed(cycles: u64) {
     let (unrecorded, _) = node_speed(&rt, cycles, true);
     let file = std::env::temp_dir().join(format!("bench_lockstep_{}.mcap", std::process::id()));
     // Uncompressed (the default): the fastest; zstd's cost is in the floor.
-    motion_runtime::record::start(&file, None, Compression::None).expect("recording");
+    motion_runtime::record::start(
+        &file,
+        motion_runtime::record::Topics::all(),
+        Compression::None,
+    )
+    .expect("recording");
     let (published, _) = node_speed(&rt, cycles, false);
     let (ratio, moving) = node_speed(&rt, cycles, true);
     motion_runtime::record::set_record_only(false);
