@@ -100,6 +100,17 @@ fn scratch_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// `motion_launch CONFIG ARGS…` in this test's domain, logging warnings only.
+fn launch(config: &std::path::Path, args: &[&str]) -> std::process::Output {
+    Command::new(launcher_bin())
+        .arg(config)
+        .args(args)
+        .env("ROS_DOMAIN_ID", unique_domain().to_string())
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("motion_launch")
+}
+
 /// What the PyPI readers make of the recording (`PY`'s lines); None when there is no python
 /// with them (skipped, unless `MOTION_MSGS_REQUIRE_MCAP` is set).
 fn read_back(file: &std::path::Path) -> Option<String> {
@@ -461,7 +472,8 @@ fn cycles_run_lockstep_nodes_without_a_client_and_record_every_cycle() {
 }
 
 /// `--record-topics` (config key `record_topics`) records only the topics named, every cycle
-/// of them; the others are not even built in such a run. Names must be absolute.
+/// of them; the others are not even built in such a run. Names must be absolute (also those
+/// of `--record-exclude-topics`), lists not empty.
 /// `--record-compression zstd` (config key `record_compression`) compresses the chunks; a
 /// compression other than none or zstd is refused.
 #[test]
@@ -470,16 +482,7 @@ fn record_topics_take_only_the_topics_named() {
     let dir = scratch_dir("motion_record_topics");
     let file = dir.join("some.mcap");
     let config = ten_axes_config(&dir, "");
-    let run_with = |config: &std::path::Path, args: &[&str]| {
-        Command::new(launcher_bin())
-            .arg(config)
-            .args(args)
-            .env("ROS_DOMAIN_ID", unique_domain().to_string())
-            .env("RUST_LOG", "warn")
-            .output()
-            .expect("motion_launch")
-    };
-    let run = |args: &[&str]| run_with(&config, args);
+    let run = |args: &[&str]| launch(&config, args);
     let f = file.to_string_lossy().to_string();
     let out = run(&[
         "--cycles",
@@ -513,6 +516,14 @@ fn record_topics_take_only_the_topics_named() {
             vec!["--check", "--record-compression"],
             "--record-compression needs one of: none, zstd",
         ),
+        (
+            vec!["--check", "--record-exclude-topics", "joint_states"],
+            "--record-exclude-topics: 'joint_states' is not an absolute topic name",
+        ),
+        (
+            vec!["--check", "--record-exclude-topics"],
+            "--record-exclude-topics needs topic names",
+        ),
     ] {
         let bad = run(&args);
         let log = String::from_utf8_lossy(&bad.stderr);
@@ -528,13 +539,17 @@ fn record_topics_take_only_the_topics_named() {
             "record_compression: 3",
             "record_compression: expected one of: none, zstd",
         ),
+        (
+            "record_exclude_topics: []",
+            "record_exclude_topics: expected at least one topic",
+        ),
     ] {
         std::fs::write(
             dir.join("key.yaml"),
             format!("{key}\nnodes:\n  - kind: axis_node\n    axes: {{x: {{}}}}\n"),
         )
         .unwrap();
-        let bad = run_with(&dir.join("key.yaml"), &["--check"]);
+        let bad = launch(&dir.join("key.yaml"), &["--check"]);
         let log = String::from_utf8_lossy(&bad.stderr);
         assert_eq!(bad.status.code(), Some(2), "{key}: {log}");
         assert!(log.contains(needle), "{key}: {log}");
@@ -555,25 +570,16 @@ fn record_topics_take_only_the_topics_named() {
 }
 
 /// `--record-exclude-topics` (config key `record_exclude_topics`, as `ros2 bag record
-/// --exclude-topics`) records every topic but those named; names must be absolute, the list
-/// not empty.
+/// --exclude-topics`) records every topic but those named (bad names and lists: in the test of
+/// `--record-topics`).
 #[test]
 fn record_exclude_topics_leave_out_the_topics_named() {
     require_netns();
     let dir = scratch_dir("motion_record_exclude");
     let file = dir.join("most.mcap");
     let config = ten_axes_config(&dir, "");
-    let run = |config: &std::path::Path, args: &[&str]| {
-        Command::new(launcher_bin())
-            .arg(config)
-            .args(args)
-            .env("ROS_DOMAIN_ID", unique_domain().to_string())
-            .env("RUST_LOG", "warn")
-            .output()
-            .expect("motion_launch")
-    };
     let f = file.to_string_lossy().to_string();
-    let out = run(
+    let out = launch(
         &config,
         &[
             "--cycles",
@@ -588,33 +594,6 @@ fn record_exclude_topics_leave_out_the_topics_named() {
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
-    );
-    for (args, needle) in [
-        (
-            vec!["--check", "--record-exclude-topics", "joint_states"],
-            "--record-exclude-topics: 'joint_states' is not an absolute topic name",
-        ),
-        (
-            vec!["--check", "--record-exclude-topics"],
-            "--record-exclude-topics needs topic names",
-        ),
-    ] {
-        let bad = run(&config, &args);
-        let log = String::from_utf8_lossy(&bad.stderr);
-        assert_eq!(bad.status.code(), Some(2), "{args:?}: {log}");
-        assert!(log.contains(needle), "{args:?}: {log}");
-    }
-    std::fs::write(
-        dir.join("key.yaml"),
-        "record_exclude_topics: []\nnodes:\n  - kind: axis_node\n    axes: {x: {}}\n",
-    )
-    .unwrap();
-    let bad = run(&dir.join("key.yaml"), &["--check"]);
-    let log = String::from_utf8_lossy(&bad.stderr);
-    assert_eq!(bad.status.code(), Some(2), "{log}");
-    assert!(
-        log.contains("record_exclude_topics: expected at least one topic"),
-        "{log}"
     );
     let got = read_back(&file);
     let _ = std::fs::remove_dir_all(&dir);
