@@ -432,12 +432,14 @@ pub fn start(path: &Path, topics: Topics, compression: Compression) -> Result<()
 impl Recorder {
     /// The writer thread: writes each batch as it fills (or once its first message is
     /// [`BATCH_AGE`] old), until [`finish`].
-    fn write(&self, mut rec: Recording) {
-        let mut written = 0u64;
-        let mut failed: Option<RecordError> = None;
-        // The registered topics, and the MCAP channel of each, made at its first message.
-        let mut topics = Vec::new();
-        let mut channels: Vec<Option<ChannelRef>> = Vec::new();
+    fn write(&self, rec: Recording) {
+        let mut out = Writer {
+            rec,
+            topics: Vec::new(),
+            channels: Vec::new(),
+            written: 0,
+            failed: None,
+        };
         let mut shared = lock(&self.shared);
         loop {
             let batch = match shared.full.pop_front() {
@@ -446,22 +448,11 @@ impl Recorder {
                     let last = std::mem::take(&mut shared.current);
                     let done = shared.finish.take().expect("checked");
                     shared.ended = true;
-                    topics.extend_from_slice(&shared.topics[topics.len()..]);
+                    out.learn_topics(&shared);
                     drop(shared);
                     self.to_publishers.notify_all();
-                    let mut out = Written {
-                        rec: &mut rec,
-                        topics: &topics,
-                        channels: &mut channels,
-                        written: &mut written,
-                        failed: &mut failed,
-                    };
                     out.batch(&last);
-                    let r = match failed.take() {
-                        Some(e) => Err(e),
-                        None => rec.finish().map(|()| written),
-                    };
-                    let _ = done.send(r);
+                    let _ = done.send(out.finish());
                     return;
                 }
                 None if shared.current.is_empty() => {
@@ -488,16 +479,9 @@ impl Recorder {
                     }
                 }
             };
-            topics.extend_from_slice(&shared.topics[topics.len()..]);
+            out.learn_topics(&shared);
             drop(shared);
-            Written {
-                rec: &mut rec,
-                topics: &topics,
-                channels: &mut channels,
-                written: &mut written,
-                failed: &mut failed,
-            }
-            .batch(&batch);
+            out.batch(&batch);
             let mut batch = batch;
             batch.clear();
             shared = lock(&self.shared);
@@ -558,16 +542,25 @@ impl Recorder {
     }
 }
 
-/// The writer thread's recording, as it writes a batch.
-struct Written<'a> {
-    rec: &'a mut Recording,
-    topics: &'a [(std::sync::Arc<str>, std::sync::Arc<str>)],
-    channels: &'a mut Vec<Option<ChannelRef>>,
-    written: &'a mut u64,
-    failed: &'a mut Option<RecordError>,
+/// The writer thread's side: the recording, the topics it knows and their channels.
+struct Writer {
+    rec: Recording,
+    /// Topic and type by frame index (a copy of [`Batches::topics`] as far as known).
+    topics: Vec<(std::sync::Arc<str>, std::sync::Arc<str>)>,
+    /// The MCAP channel by frame index, made at the topic's first message.
+    channels: Vec<Option<ChannelRef>>,
+    written: u64,
+    /// The first error; nothing is written after it.
+    failed: Option<RecordError>,
 }
 
-impl Written<'_> {
+impl Writer {
+    /// Takes the topics registered since the last batch (their frames may be in it).
+    fn learn_topics(&mut self, shared: &Batches) {
+        self.topics
+            .extend_from_slice(&shared.topics[self.topics.len()..]);
+    }
+
     /// Writes the messages of one batch (nothing once writing failed).
     fn batch(&mut self, batch: &[u8]) {
         let mut at = 0;
@@ -590,12 +583,20 @@ impl Written<'_> {
                 self.channels[i] = Some(c);
                 self.rec.write_on(c, frame.stamp_ns, data)
             }) {
-                Ok(()) => *self.written += 1,
+                Ok(()) => self.written += 1,
                 Err(e) => {
                     tracing::error!("{e}; recording stopped");
-                    *self.failed = Some(e);
+                    self.failed = Some(e);
                 }
             }
+        }
+    }
+
+    /// Closes the file: the messages written, or the first error.
+    fn finish(self) -> Result<u64, RecordError> {
+        match self.failed {
+            Some(e) => Err(e),
+            None => self.rec.finish().map(|()| self.written),
         }
     }
 }
@@ -610,11 +611,6 @@ fn fresh(shared: &mut Batches) -> Option<Vec<u8>> {
     }
     shared.unmade -= 1;
     Some(Vec::with_capacity(BATCH))
-}
-
-/// True while this process records `topic`.
-fn recording(topic: &str) -> bool {
-    RECORDER.get().is_some_and(|r| r.topics.takes(topic))
 }
 
 /// Ends the recording (after the nodes stopped): waits for what is gathered to be written,
@@ -649,7 +645,7 @@ pub fn time_ns(t: &motion_msgs::deps::builtin_interfaces::msg::Time) -> i64 {
 }
 
 /// A topic as the recording and the live feed ([`crate::live`]) see it: its name, type, the
-/// live channel (looked up at the first message) and the length of its last message. One
+/// live channel and its index in the recording (both looked up at the first message). One
 /// per publisher ([`RecordedPublisher`]), or for messages that a dependency publishes (`/rosout`).
 pub struct RecordedTopic {
     topic: std::sync::Arc<str>,
@@ -700,7 +696,9 @@ impl RecordedTopic {
     fn recorded(&self) -> Option<(&'static Recorder, u32)> {
         let r = RECORDER.get()?;
         let index = self.recorded.get_or_init(|| {
-            recording(&self.topic).then(|| r.register(&self.topic, &self.ros_type))
+            r.topics
+                .takes(&self.topic)
+                .then(|| r.register(&self.topic, &self.ros_type))
         });
         index.map(|i| (r, i))
     }
