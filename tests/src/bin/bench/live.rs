@@ -12,15 +12,19 @@ use tokio_tungstenite::tungstenite::Message;
 
 const AXES: usize = 10;
 
-/// p99 [µs] of the cycles counted between two cumulative histograms (1 µs buckets).
-fn window_p99(before: &[u32], after: &[u32]) -> (u64, f64) {
-    let d: Vec<u64> = after
+/// The cycles counted between two cumulative histograms (1 µs buckets), per bucket.
+pub(crate) fn window(before: &[u32], after: &[u32]) -> Vec<u64> {
+    after
         .iter()
         .enumerate()
         .map(|(i, &a)| u64::from(a) - u64::from(before.get(i).copied().unwrap_or(0)))
-        .collect();
+        .collect()
+}
+
+/// (cycles, `q` quantile [µs]) of a [`window`]: the upper edge of the bucket holding it.
+pub(crate) fn quantile(d: &[u64], q: f64) -> (u64, f64) {
     let n: u64 = d.iter().sum();
-    let rank = ((0.99 * n as f64).ceil() as u64).max(1);
+    let rank = ((q * n as f64).ceil() as u64).max(1);
     let mut seen = 0;
     for (i, c) in d.iter().enumerate() {
         seen += c;
@@ -29,6 +33,11 @@ fn window_p99(before: &[u32], after: &[u32]) -> (u64, f64) {
         }
     }
     (n, d.len() as f64)
+}
+
+/// p99 [µs] of the cycles counted between two cumulative histograms.
+fn window_p99(before: &[u32], after: &[u32]) -> (u64, f64) {
+    quantile(&window(before, after), 0.99)
 }
 
 /// A Foxglove client: subscribes to every advertised channel and reads until `stop`; returns

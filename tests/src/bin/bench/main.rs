@@ -1,7 +1,7 @@
 //! Benchmarks (not timed tests): figures are printed, with ratios against references measured
 //! in the same run.
 //!
-//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [tracks] [pickplace] [lockstep] [live] [ruckig]` (default: all). `--smoke` runs short
+//! `bench [--smoke] [runtime] [roundtrip] [axis] [ca] [planar] [tracks] [pickplace] [lockstep] [live] [node] [ruckig]` (default: all). `--smoke` runs short
 //! versions (CI).
 //! - runtime: cycle jitter p50/p99/max and overruns of the cyclic controller at 1 kHz with a
 //!   trivial engine (60 s; smoke 2 s).
@@ -25,6 +25,9 @@
 //!   writer alone, and to a plain file) (netns-run).
 //! - live: cycle execution p99 of the axis node (10 moving axes, real time) serving the live
 //!   feed, without a client and with a client reading every channel (netns-run).
+//! - node: the axis node in real time at 1 kHz with 10, 100, 500 moving axes: cycle
+//!   execution mean/p99/max, wake-up lateness p99 and overruns, against the bare engine's step
+//!   and snapshot of as many axes (netns-run).
 //! - ruckig: durations of random point-to-point moves from rest with random v/a/d/j divided by
 //!   the time-optimal duration of the PyPI `ruckig` package; limits checked at 1 ms samples.
 
@@ -43,6 +46,7 @@ use system_tests::ClientNode;
 mod ca;
 mod live;
 mod lockstep;
+mod node;
 mod pickplace;
 mod planar;
 mod tracks;
@@ -85,6 +89,7 @@ fn main() {
             "flood",
             "lockstep",
             "live",
+            "node",
         ]
         .contains(&a.as_str())
     });
@@ -155,6 +160,16 @@ fn main() {
             std::process::exit(2);
         }
         live::cycle_cost(if smoke { 1.0 } else { 10.0 });
+    }
+    if all || args.iter().any(|a| a == "node") {
+        if std::env::var("MOTION_IN_NETNS").as_deref() != Ok("1") {
+            eprintln!("node: run inside scripts/netns-run (it opens DDS sockets)");
+            std::process::exit(2);
+        }
+        node::cycle_cost(
+            if smoke { &[100] } else { &[10, 100, 500] },
+            if smoke { 1.0 } else { 10.0 },
+        );
     }
     if all || args.iter().any(|a| a == "ruckig") {
         ruckig_ratio(if smoke { 100 } else { 1000 });
