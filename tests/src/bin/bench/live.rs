@@ -5,7 +5,6 @@
 //! (`~/cycle_stats`), differenced between the window's ends. Must run inside scripts/netns-run.
 
 use futures::{SinkExt, StreamExt};
-use motion_runtime::host::CommonConfig;
 use std::time::Duration;
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 use tokio_tungstenite::tungstenite::Message;
@@ -103,13 +102,7 @@ pub fn cycle_cost(window: f64) {
         })
         .await
         .expect("live feed");
-        let common = CommonConfig {
-            name: "axis_node".into(),
-            ..Default::default()
-        };
-        let axes: Vec<String> = (0..AXES).map(|i| format!("a{i}: {{}}")).collect();
-        let cfg = serde_yaml::from_str(&format!("axes: {{{}}}", axes.join(", "))).expect("yaml");
-        let node = axis_node::start(&common, cfg, "bench live", 153).expect("node");
+        let node = super::lockstep::axis_node_of(AXES, false, "bench live", 153);
         let h = node.handle();
         let [power, moving]: [Vec<_>; 2] =
             [0, 1].map(|k| (0..AXES).map(|i| super::lockstep::orders(i)[k].clone()).collect());

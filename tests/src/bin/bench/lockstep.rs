@@ -35,6 +35,34 @@ pub(crate) fn orders(i: usize) -> [AxisCommand; 2] {
     ]
 }
 
+/// An axis node named `axis_node` with axes `a0` … (default configuration each), in lockstep
+/// or real time at 1 kHz, on `domain_id`.
+pub(crate) fn axis_node_of(
+    axes: usize,
+    lockstep: bool,
+    location: &str,
+    domain_id: u16,
+) -> axis_node::AxisNode {
+    let common = CommonConfig {
+        name: "axis_node".into(),
+        lockstep,
+        ..Default::default()
+    };
+    let names: Vec<String> = (0..axes).map(|i| format!("a{i}: {{}}")).collect();
+    let cfg = serde_yaml::from_str(&format!("axes: {{{}}}", names.join(", "))).expect("yaml");
+    axis_node::start(&common, cfg, location, domain_id).expect("node")
+}
+
+/// How many of the node's axes move (positive set velocity) in its latest snapshot.
+pub(crate) fn moving(h: &motion_runtime::ControllerHandle<axis_engine::AxisEngine>) -> usize {
+    h.snapshot()
+        .state
+        .axes
+        .iter()
+        .filter(|a| a.set_velo > 0.0)
+        .count()
+}
+
 /// The bare engine: `axes` axes given [`orders`], stepped `cycles` times, with (`snapshots`)
 /// or without the engine's snapshot of every cycle (refilled in place, as the node's stream
 /// does); simulated / wall time.
@@ -81,14 +109,7 @@ pub(crate) fn bare(axes: usize, cycles: u64, snapshots: bool) -> f64 {
 fn node_speed(rt: &tokio::runtime::Runtime, cycles: u64, record_only: bool) -> (f64, usize) {
     motion_runtime::record::set_record_only(record_only);
     rt.block_on(async {
-        let common = CommonConfig {
-            name: "axis_node".into(),
-            lockstep: true,
-            ..Default::default()
-        };
-        let names: Vec<String> = (0..AXES).map(|i| format!("a{i}: {{}}")).collect();
-        let cfg = serde_yaml::from_str(&format!("axes: {{{}}}", names.join(", "))).expect("yaml");
-        let node = axis_node::start(&common, cfg, "bench lockstep", 152).expect("node");
+        let node = axis_node_of(AXES, true, "bench lockstep", 152);
         let h = node.handle();
         for k in 0..2 {
             let replies: Vec<_> = (0..AXES)
@@ -103,13 +124,7 @@ fn node_speed(rt: &tokio::runtime::Runtime, cycles: u64, record_only: bool) -> (
         let c = h.step(cycles).await.expect("step");
         node.flush(c).await;
         let wall = t0.elapsed().as_secs_f64();
-        let moving = h
-            .snapshot()
-            .state
-            .axes
-            .iter()
-            .filter(|a| a.set_velo > 0.0)
-            .count();
+        let moving = moving(&h);
         Box::new(node).stop().await;
         (cycles as f64 * 0.001 / wall, moving)
     })

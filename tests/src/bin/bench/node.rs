@@ -7,7 +7,6 @@
 //! the same axes with a snapshot per cycle. Must run inside scripts/netns-run.
 
 use super::live::{quantile, window};
-use motion_runtime::host::CommonConfig;
 use std::time::Duration;
 
 /// Execution time p99 a cycle may take at the largest count: half the period, so that the
@@ -60,13 +59,7 @@ struct Window {
 }
 
 async fn measure(n: usize, seconds: f64, domain_id: u16) -> Window {
-    let common = CommonConfig {
-        name: "axis_node".into(),
-        ..Default::default()
-    };
-    let axes: Vec<String> = (0..n).map(|i| format!("a{i}: {{}}")).collect();
-    let cfg = serde_yaml::from_str(&format!("axes: {{{}}}", axes.join(", "))).expect("yaml");
-    let node = axis_node::start(&common, cfg, "bench node", domain_id).expect("node");
+    let node = super::lockstep::axis_node_of(n, false, "bench node", domain_id);
     let h = node.handle();
     let all: Vec<usize> = (0..n).collect();
     for k in 0..2 {
@@ -90,14 +83,7 @@ async fn measure(n: usize, seconds: f64, domain_id: u16) -> Window {
     let a = h.stats();
     tokio::time::sleep(Duration::from_secs_f64(seconds)).await;
     let b = h.stats();
-    let moving = h
-        .snapshot()
-        .state
-        .axes
-        .iter()
-        .filter(|a| a.set_velo > 0.0)
-        .count();
-    assert_eq!(moving, n, "every axis moving");
+    assert_eq!(super::lockstep::moving(&h), n, "every axis moving");
     Box::new(node).stop().await;
     let exec = window(&a.exec_histogram, &b.exec_histogram);
     let (cycles, p99) = quantile(&exec, 0.99);
