@@ -260,13 +260,7 @@ fn a_recording_that_cannot_be_written_ends_the_run_with_its_cause() {
     require_netns();
     let dir = scratch_dir("motion_recording_full");
     let config = ten_axes_config(&dir, "");
-    let out = Command::new(launcher_bin())
-        .arg(&config)
-        .args(["--cycles", "3000", "--record", "/dev/full"])
-        .env("ROS_DOMAIN_ID", unique_domain().to_string())
-        .env("RUST_LOG", "info,rustdds=error,ros2_client=error")
-        .output()
-        .expect("motion_launch");
+    let out = launch(&config, &["--cycles", "3000", "--record", "/dev/full"]);
     let _ = std::fs::remove_dir_all(&dir);
     let log = String::from_utf8_lossy(&out.stderr);
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -321,6 +321,14 @@ fn parse_launch(
     ))
 }
 
+/// The value of `option` (`--record-topics`, `--record-exclude-topics`): comma-separated
+/// topics as [`record_topics`] takes them; `example` for the error when it is missing.
+fn topic_option(option: &str, value: Option<String>, example: &str) -> Result<Vec<String>, String> {
+    let v = value.ok_or_else(|| format!("{option} needs topic names (e.g. {example})"))?;
+    record_topics(v.split(',').map(|t| t.trim().to_string()).collect())
+        .map_err(|e| format!("{option}: {e}"))
+}
+
 /// The topics of `record_topics` / `--record-topics` (and of the exclusions): absolute ROS
 /// names, at least one.
 fn record_topics(topics: Vec<String>) -> Result<Vec<String>, String> {
@@ -407,21 +415,11 @@ fn parse_args(usage: &str) -> Result<Args, String> {
                 a.record = Some(v);
             }
             "--record-topics" => {
-                let v = it
-                    .next()
-                    .ok_or("--record-topics needs topic names (e.g. /joint_states,/clock)")?;
-                let topics = v.split(',').map(|t| t.trim().to_string()).collect();
-                a.record_topics =
-                    Some(record_topics(topics).map_err(|e| format!("--record-topics: {e}"))?);
+                a.record_topics = Some(topic_option(&arg, it.next(), "/joint_states,/clock")?);
             }
             "--record-exclude-topics" => {
-                let v = it.next().ok_or(
-                    "--record-exclude-topics needs topic names (e.g. /planar_node/markers)",
-                )?;
-                let topics = v.split(',').map(|t| t.trim().to_string()).collect();
-                a.record_exclude_topics = Some(
-                    record_topics(topics).map_err(|e| format!("--record-exclude-topics: {e}"))?,
-                );
+                a.record_exclude_topics =
+                    Some(topic_option(&arg, it.next(), "/planar_node/markers")?);
             }
             "--record-compression" => {
                 let v = it.next().ok_or_else(|| {

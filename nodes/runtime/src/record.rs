@@ -404,10 +404,11 @@ pub fn start(path: &Path, topics: Topics, compression: Compression) -> Result<()
     let rec = Recording::create(path, compression)?;
     let recorder = Recorder {
         shared: std::sync::Mutex::new(Batches {
-            current: Vec::new(),
+            // The first of the BATCHES buffers.
+            current: Vec::with_capacity(BATCH),
             full: std::collections::VecDeque::new(),
             free: Vec::new(),
-            unmade: BATCHES,
+            unmade: BATCHES - 1,
             topics: Vec::new(),
             dropped: 0,
             finish: None,
@@ -528,9 +529,6 @@ impl Recorder {
         if shared.current.is_empty() {
             // The writer sleeps until a batch has a first message.
             self.to_writer.notify_one();
-            if shared.current.capacity() == 0 {
-                shared.current.reserve(BATCH.max(need));
-            }
         }
         Frame {
             topic,
@@ -555,10 +553,12 @@ struct Writer {
 }
 
 impl Writer {
-    /// Takes the topics registered since the last batch (their frames may be in it).
+    /// Takes the topics registered since the last batch (their frames may be in it); their
+    /// channels are made at their first message.
     fn learn_topics(&mut self, shared: &Batches) {
         self.topics
             .extend_from_slice(&shared.topics[self.topics.len()..]);
+        self.channels.resize(self.topics.len(), None);
     }
 
     /// Writes the messages of one batch (nothing once writing failed).
@@ -569,9 +569,6 @@ impl Writer {
             let data = &batch[at + Frame::SIZE..at + Frame::SIZE + frame.len as usize];
             at += Frame::SIZE + frame.len as usize;
             let i = frame.topic as usize;
-            if self.channels.len() <= i {
-                self.channels.resize(i + 1, None);
-            }
             let channel = match self.channels[i] {
                 Some(c) => Ok(c),
                 None => {

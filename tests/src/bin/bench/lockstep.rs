@@ -63,12 +63,11 @@ pub(crate) fn moving(h: &motion_runtime::ControllerHandle<axis_engine::AxisEngin
         .count()
 }
 
-/// The bare engine: `axes` axes given [`orders`], stepped `cycles` times, with (`snapshots`)
+/// The bare engine: `count` axes given [`orders`], stepped `cycles` times, with (`snapshots`)
 /// or without the engine's snapshot of every cycle (refilled in place, as the node's stream
 /// does); simulated / wall time.
-pub(crate) fn bare(axes: usize, cycles: u64, snapshots: bool) -> f64 {
-    let n = axes;
-    let axes = (0..n)
+pub(crate) fn bare(count: usize, cycles: u64, snapshots: bool) -> f64 {
+    let axes = (0..count)
         .map(|i| (format!("a{i}"), AxisConfig::default()))
         .collect();
     let mut e = AxisEngine::new(axes).expect("engine");
@@ -86,7 +85,7 @@ pub(crate) fn bare(axes: usize, cycles: u64, snapshots: bool) -> f64 {
         ev.clear();
     };
     for k in 0..2 {
-        for i in 0..n {
+        for i in 0..count {
             e.command(orders(i)[k].clone()).expect("order");
         }
         step(&mut e);
