@@ -505,9 +505,11 @@ impl Reader {
   pub fn remove_writer_proxy(&mut self, writer_guid: GUID) {
     if self.matched_writers.contains_key(&writer_guid) {
       self.matched_writers.remove(&writer_guid);
-      self
-        .acquire_the_topic_cache_guard()
-        .forget_reliable_writer(writer_guid);
+      let mut topic_cache = self.acquire_the_topic_cache_guard();
+      topic_cache.forget_reliable_writer(writer_guid);
+      // motion-suite patch 11: if it comes back, it starts afresh.
+      topic_cache.writer_lost(writer_guid);
+      drop(topic_cache);
       #[cfg(feature = "security")]
       if let Some(security_plugins_handle) = &self.security_plugins {
         security_plugins_handle
@@ -2156,5 +2158,159 @@ mod tests {
     // 3. Verify that the reader does not contain a writer proxy for the writer that
     // we attempted to add
     assert!(reader.matched_writer(writer_guid).is_none());
+  }
+
+  // motion-suite patch 11: a network partition longer than a peer's lease. Its participant
+  // is lost here (proxies removed), and after the heal its writers, same GUIDs, resend from
+  // their start: the SPDP announcement with its old sequence number (best effort, before
+  // any proxy exists again), SEDP and transient-local history from 1 (reliable, after the
+  // re-match). Both must reach the DataReaders again; before the patch the topic cache
+  // dropped them as duplicates and the read pointers skipped them, so the peer stayed
+  // unknown for good.
+  #[test]
+  fn a_writer_back_after_its_participant_was_lost_is_read_from_its_start() {
+    // Reads what a DataReader would take next (SimpleDataReader's way).
+    struct Pointers {
+      last_read_sn: BTreeMap<GUID, SequenceNumber>,
+      latest: Timestamp,
+      restarts_seen: u64,
+    }
+    fn take(cache: &Arc<Mutex<TopicCache>>, p: &mut Pointers, reliable: bool) -> Vec<i64> {
+      let cache = cache.lock().unwrap();
+      let Pointers {
+        last_read_sn,
+        restarts_seen,
+        ..
+      } = p;
+      cache.take_restarted_writers(restarts_seen, |w| {
+        last_read_sn.remove(&w);
+      });
+      let taken: Vec<_> = cache
+        .get_changes_in_range(reliable, p.latest, &p.last_read_sn)
+        .map(|(t, cc)| (t, cc.writer_guid, cc.sequence_number))
+        .collect();
+      for (t, w, sn) in &taken {
+        p.latest = p.latest.max(*t);
+        p.last_read_sn.insert(*w, *sn);
+      }
+      taken.iter().map(|(_, _, sn)| i64::from(*sn)).collect()
+    }
+
+    for (reliable, reader_id, writer_id) in [
+      (
+        true,
+        EntityId::SEDP_BUILTIN_PUBLICATIONS_READER,
+        EntityId::SEDP_BUILTIN_PUBLICATIONS_WRITER,
+      ),
+      (
+        false,
+        EntityId::SPDP_BUILTIN_PARTICIPANT_READER,
+        EntityId::SPDP_BUILTIN_PARTICIPANT_WRITER,
+      ),
+    ] {
+      let qos = if reliable {
+        QosPolicyBuilder::new()
+          .reliability(Reliability::Reliable {
+            max_blocking_time: Duration::from_millis(100),
+          })
+          .build()
+      } else {
+        QosPolicyBuilder::new()
+          .reliability(Reliability::BestEffort)
+          .build()
+      };
+      let dds_cache = Arc::new(RwLock::new(DDSCache::new()));
+      let cache = dds_cache.write().unwrap().add_new_topic(
+        "discovery".to_string(),
+        TypeDesc::new("test_type".to_string()),
+        &qos,
+      );
+      let (notification_sender, _notification_receiver) =
+        crate::mio_source::notification_channel(100);
+      let (_notification_event_source, notification_event_sender) =
+        mio_source::make_poll_channel().unwrap();
+      let (status_sender, _status_receiver) = sync_status_channel::<DataReaderStatus>(4).unwrap();
+      let (participant_status_sender, _participant_status_receiver) =
+        sync_status_channel(16).unwrap();
+      let (_reader_command_sender, reader_command_receiver) =
+        wake_channel::<ReaderCommand>(10, &LoopWaker::new());
+      let reader_guid = GUID::new(GuidPrefix::new(&[1; 12]), reader_id);
+      let mut reader = Reader::new(
+        ReaderIngredients {
+          guid: reader_guid,
+          notification_sender,
+          status_sender,
+          topic_name: "discovery".to_string(),
+          topic_cache_handle: cache.clone(),
+          like_stateless: false,
+          qos_policy: qos.clone(),
+          data_reader_command_receiver: reader_command_receiver,
+          data_reader_waker: Arc::new(Mutex::new(None)),
+          poll_event_sender: notification_event_sender,
+          security_plugins: None,
+          discovery_notify: None,
+        },
+        Rc::new(UDPSender::new(0).unwrap()),
+        new_shared_timer(),
+        participant_status_sender,
+      );
+      let writer = GUID::new(GuidPrefix::new(&[2; 12]), writer_id);
+      let mr_state = MessageReceiverState {
+        source_guid_prefix: writer.prefix,
+        ..Default::default()
+      };
+      let matched = |reader: &mut Reader| {
+        reader.matched_writer_add(writer, EntityId::UNKNOWN, vec![], vec![], &qos)
+      };
+      let send = |reader: &mut Reader, sn: i64| {
+        let data = Data {
+          reader_id,
+          writer_id,
+          writer_sn: SequenceNumber::new(sn),
+          ..Data::default()
+        };
+        reader.handle_data_msg(data, BitFlags::from_flag(DATA_Flags::Data), &mr_state);
+      };
+      let mut pointers = Pointers {
+        last_read_sn: BTreeMap::new(),
+        latest: Timestamp::ZERO,
+        restarts_seen: 0,
+      };
+
+      matched(&mut reader);
+      send(&mut reader, 1);
+      send(&mut reader, 2);
+      assert_eq!(take(&cache, &mut pointers, reliable), [1, 2]);
+      send(&mut reader, 2);
+      assert_eq!(
+        take(&cache, &mut pointers, reliable),
+        Vec::<i64>::new(),
+        "a duplicate"
+      );
+
+      // The lease runs out during the partition.
+      reader.participant_lost(writer.prefix);
+      assert!(reader.matched_writer(writer).is_none());
+
+      // After the heal it announces itself again (the SPDP sample comes before any
+      // proxy), is matched again, and resends from its start.
+      if reliable {
+        matched(&mut reader);
+      }
+      send(&mut reader, 1);
+      send(&mut reader, 2);
+      assert_eq!(
+        take(&cache, &mut pointers, reliable),
+        [1, 2],
+        "reliable: {reliable}"
+      );
+      send(&mut reader, 3);
+      send(&mut reader, 2);
+      assert_eq!(
+        take(&cache, &mut pointers, reliable),
+        [3],
+        "reliable: {reliable}"
+      );
+    }
   }
 }

@@ -1,6 +1,6 @@
 use std::{
   cmp::max,
-  collections::{btree_map, BTreeMap, HashMap},
+  collections::{btree_map, BTreeMap, BTreeSet, HashMap},
   iter,
   ops::Bound::{Excluded, Included},
   sync::{Arc, Mutex},
@@ -154,7 +154,25 @@ pub(crate) struct TopicCache {
   // Therefore, data before the marker SN can be handed off to a Reliable DataReader.
   // Initially, we consider the marker for each Writer (GUID) to be SequenceNumber::new(1)
   received_reliably_before: BTreeMap<GUID, SequenceNumber>,
+
+  // motion-suite patch 11: a writer that comes back after its proxy was removed (its
+  // participant's lease ran out during a network partition) has the same GUID and goes on
+  // with its sequence numbers, and it resends what it holds from the start: the same SPDP
+  // announcement (same sequence number), its SEDP and transient-local history from 1. Those
+  // numbers are not duplicates of what we had from it before the loss, and the DataReaders'
+  // read pointers must not skip them. So a writer whose proxy was removed is remembered as
+  // lost, and its first sample after that starts it afresh: its sequence numbers are
+  // forgotten here, and each DataReader drops its read pointer for it (`restarted_writers`,
+  // `take_restarted_writers`).
+  lost_writers: BTreeSet<GUID>,
+  // Writers started afresh, with the value of `restarts` when they were.
+  restarted_writers: BTreeMap<GUID, u64>,
+  restarts: u64,
 }
+
+// At most this many lost writers are remembered per topic (each client that goes away
+// leaves its writers here); beyond it the smallest GUIDs are forgotten.
+const MAX_LOST_WRITERS: usize = 4096;
 
 impl TopicCache {
   pub fn new(topic_name: String, topic_data_type: TypeDesc, topic_qos: &QosPolicies) -> Self {
@@ -170,6 +188,9 @@ impl TopicCache {
       last_added_instant: Timestamp::ZERO,
       sequence_numbers: BTreeMap::new(),
       received_reliably_before: BTreeMap::new(),
+      lost_writers: BTreeSet::new(),
+      restarted_writers: BTreeMap::new(),
+      restarts: 0,
     };
 
     new_self.update_keep_limits(topic_qos);
@@ -253,6 +274,38 @@ impl TopicCache {
   // The Writer is gone, so samples it never completed are no longer awaited.
   pub fn forget_reliable_writer(&mut self, writer: GUID) {
     self.received_reliably_before.remove(&writer);
+  }
+
+  // The Writer's proxy was removed (patch 11): if it sends again, it starts afresh.
+  pub fn writer_lost(&mut self, writer: GUID) {
+    self.lost_writers.insert(writer);
+    while self.lost_writers.len() > MAX_LOST_WRITERS {
+      self.lost_writers.pop_first();
+    }
+  }
+
+  // A lost Writer sends again (patch 11): what we had of it before is history.
+  fn restart_writer(&mut self, writer: GUID) {
+    debug!(
+      "Topic {:?}: writer {writer:?} is back after it was lost; its sequence numbers start afresh",
+      self.topic_name
+    );
+    self.sequence_numbers.remove(&writer);
+    self.received_reliably_before.remove(&writer);
+    self.restarts += 1;
+    self.restarted_writers.insert(writer, self.restarts);
+  }
+
+  // For a DataReader's read pointers (patch 11): calls `forget` for each Writer restarted
+  // since the reader last asked (`seen`, which is then brought up to date).
+  pub fn take_restarted_writers(&self, seen: &mut u64, mut forget: impl FnMut(GUID)) {
+    if *seen == self.restarts {
+      return;
+    }
+    for (writer, _) in self.restarted_writers.iter().filter(|(_, r)| **r > *seen) {
+      forget(*writer);
+    }
+    *seen = self.restarts;
   }
 
   // The oldest change that a Reliable DataReader cannot yet take, because an
@@ -351,6 +404,10 @@ impl TopicCache {
       // We actually only remove to keep cache size between min and max limits.
     }
 
+    if self.lost_writers.remove(&cache_change.writer_guid) {
+      self.restart_writer(cache_change.writer_guid);
+    }
+
     // Now to the actual adding business.
     if let Some(old_instant) = self.find_by_sn(&cache_change) {
       // Got duplicate DATA for a SN that we already have. It should be discarded.
@@ -382,7 +439,7 @@ impl TopicCache {
         // Should be unreachable now that keys are strictly monotonic, but keep the
         // guard rather than silently overwriting if the invariant is ever broken.
         error!("DDSHistoryCache already contained element with key {key:?} !!!");
-        self.remove_sn(old_cc);
+        self.remove_sn(key, old_cc);
       })
     }
   }
@@ -476,11 +533,15 @@ impl TopicCache {
     // received reliably, since no such samples exist.
   }
 
-  fn remove_sn(&mut self, cc: &CacheChange) {
+  // Only the entry of this change: after a restart (patch 11) the same writer and sequence
+  // number can belong to a newer change.
+  fn remove_sn(&mut self, instant: Timestamp, cc: &CacheChange) {
     let mut emptied = false;
 
     self.sequence_numbers.entry(cc.writer_guid).and_modify(|s| {
-      s.remove(&cc.sequence_number);
+      if s.get(&cc.sequence_number) == Some(&instant) {
+        s.remove(&cc.sequence_number);
+      }
       emptied = s.is_empty();
     });
     if emptied {
@@ -556,7 +617,7 @@ impl TopicCache {
       let to_remove = std::mem::replace(&mut self.changes, to_retain);
 
       // update also SequenceNumber map
-      to_remove.values().for_each(|r| self.remove_sn(r));
+      to_remove.iter().for_each(|(ts, r)| self.remove_sn(*ts, r));
     }
 
     // Now, reallocate old cache changes

@@ -55,6 +55,9 @@ pub(crate) struct ReadState<K: Key> {
   /// key values. This is needed when we receive a dispose message via hash
   /// only.
   hash_to_key_map: BTreeMap<KeyHash, K>, // TODO: garbage collect this somehow
+  // motion-suite patch 11: the topic cache's count of writers restarted after a loss, as
+  // far as `last_read_sn` has taken them into account (TopicCache::take_restarted_writers).
+  restarts_seen: u64,
 }
 
 impl<K: Key> ReadState<K> {
@@ -63,6 +66,7 @@ impl<K: Key> ReadState<K> {
       latest_instant: Timestamp::ZERO,
       last_read_sn: BTreeMap::new(),
       hash_to_key_map: BTreeMap::<KeyHash, K>::new(),
+      restarts_seen: 0,
     }
   }
 
@@ -351,6 +355,15 @@ where
     let topic_cache = self.acquire_the_topic_cache_guard();
 
     let mut read_state_ref = self.read_state.lock().unwrap();
+    // A writer back after a loss resends from its start (patch 11).
+    let ReadState {
+      restarts_seen,
+      last_read_sn,
+      ..
+    } = &mut *read_state_ref;
+    topic_cache.take_restarted_writers(restarts_seen, |writer| {
+      last_read_sn.remove(&writer);
+    });
     let latest_instant = read_state_ref.latest_instant;
     let (last_read_sn, hash_to_key_map) = read_state_ref.get_sn_map_and_hash_map();
 
