@@ -39,6 +39,7 @@ from cyclonedds.idl import IdlStruct  # noqa: E402
 from cyclonedds.idl import types as idl  # noqa: E402
 from cyclonedds.pub import DataWriter  # noqa: E402
 from cyclonedds.sub import DataReader  # noqa: E402
+from cyclonedds.internal import InvalidSample  # noqa: E402
 from cyclonedds.topic import Topic  # noqa: E402
 from cyclonedds.util import duration  # noqa: E402
 
@@ -102,6 +103,12 @@ def topic(domain_id, dp, name, data_type):
     return Topic(dp, name, data_type)
 
 
+def valid(samples):
+    """The samples that carry data. Cyclone also hands out an InvalidSample when an instance
+    loses its last writer (the node's writer lost during a partition): a state change, no data."""
+    return [s for s in samples if not isinstance(s, InvalidSample)]
+
+
 def _with_cyclone_header(cls):
     """The same struct with rmw_cyclonedds's request header in front (same DDS type name)."""
     hints = typing.get_type_hints(cls, include_extras=True)
@@ -155,7 +162,7 @@ class Peer:
     def take_one(self, reader, timeout=10.0):
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
-            samples = reader.take(N=1)
+            samples = valid(reader.take(N=1))
             if samples:
                 return samples[0]
             time.sleep(0.01)
@@ -205,7 +212,7 @@ class ServiceClient:
         self.writer.write(req)
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
-            for s in self.reader.take(N=16):
+            for s in valid(self.reader.take(N=16)):
                 # ros2-client echoes the header bytes back unchanged (see notes/dds.md).
                 if s.cdds_client_guid == self.peer._guid and s.cdds_sequence == self.seq:
                     return s
@@ -251,7 +258,7 @@ class ActionClient:
     def feedback_for(self, goal_id, timeout=10.0):
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
-            for s in self.feedback.take(N=16):
+            for s in valid(self.feedback.take(N=16)):
                 if list(s.goal_id.uuid) == list(goal_id.uuid):
                     return s.feedback
             time.sleep(0.01)

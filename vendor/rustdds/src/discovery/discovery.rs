@@ -1,4 +1,5 @@
 use std::{
+  cell::RefCell,
   sync::{Arc, RwLock},
   time::Duration as StdDuration,
 };
@@ -296,12 +297,22 @@ pub(crate) struct Discovery {
   // discovery phase. See `spdp_receive`.
   #[cfg(feature = "security")]
   spdp_quick_response_sent: std::collections::HashSet<GuidPrefix>,
+
+  // motion-suite patch 12: the announcement last written; an unchanged one is repeated
+  // with its sequence number instead of written anew (`spdp_publish`).
+  last_announcement: RefCell<Option<SpdpDiscoveredParticipantData>>,
 }
 
 impl Discovery {
   const PARTICIPANT_CLEANUP_PERIOD: StdDuration = StdDuration::from_secs(2);
   const TOPIC_CLEANUP_PERIOD: StdDuration = StdDuration::from_secs(60); // timer for cleaning up inactive topics
-  const SPDP_PUBLISH_PERIOD: StdDuration = StdDuration::from_secs(10);
+                                                                        // motion-suite patch 12: announced every 3 s with a lease of 20 s, as Fast DDS does
+                                                                        // (upstream: 10 s and 5 x that). A peer that lost us in a partition (its lease of us ran
+                                                                        // out) finds us again at most one period after the heal; with a 10 s period a client was
+                                                                        // served again only 8-10 s after the heal. Repeats keep their sequence number, so the
+                                                                        // peers see no participant update every period (see `spdp_publish`).
+  const SPDP_PUBLISH_PERIOD: StdDuration = StdDuration::from_secs(3);
+  const SPDP_LEASE_DURATION: StdDuration = StdDuration::from_secs(20);
   const CHECK_PARTICIPANT_MESSAGES: StdDuration = StdDuration::from_secs(1);
   #[cfg(feature = "security")]
   const CACHED_SECURE_DISCOVERY_MESSAGE_RESEND_PERIOD: StdDuration = StdDuration::from_secs(1);
@@ -693,6 +704,7 @@ impl Discovery {
       dcps_participant_volatile_message_secure,
       #[cfg(feature = "security")]
       spdp_quick_response_sent: std::collections::HashSet::new(),
+      last_announcement: RefCell::new(None),
     })
   }
 
@@ -1443,18 +1455,36 @@ impl Discovery {
   }
 
   fn spdp_publish(&self, local_dp: &DomainParticipant) {
-    // setting 5 times the duration so lease doesn't break if update fails once or
-    // twice
+    // The lease lets several announcements in a row be lost (patch 12).
     let data = SpdpDiscoveredParticipantData::from_local_participant(
       local_dp,
       &self.security_opt,
-      5.0 * Duration::from(Self::SPDP_PUBLISH_PERIOD),
+      Duration::from(Self::SPDP_LEASE_DURATION),
     );
 
     #[cfg(feature = "security")]
     if let Some(security) = self.security_opt.as_ref() {
       security.secure_spdp_publish(&self.dcps_participant_secure.writer, data.clone());
     }
+
+    // motion-suite patch 12: an unchanged announcement is sent again as it was (same
+    // sequence number), as Fast DDS and Cyclone DDS repeat theirs: the others refresh our
+    // lease and see no update. Every new sample is a participant update for all others, and
+    // a Fast DDS participant busy with our SEDP data then sometimes lost a publication (see
+    // patch 8); at one every 3 s that would meet every few starts of a client.
+    let mut last = self.last_announcement.borrow_mut();
+    let unchanged = last.as_ref().is_some_and(|l| {
+      SpdpDiscoveredParticipantData {
+        updated_time: data.updated_time,
+        ..l.clone()
+      } == data
+    });
+    if unchanged {
+      self.send_discovery_notification(DiscoveryNotificationType::RepeatParticipantAnnouncement);
+      return;
+    }
+    *last = Some(data.clone());
+    drop(last);
 
     self
       .dcps_participant

@@ -521,6 +521,8 @@ pub(crate) enum DiscoveryNotificationType {
   ParticipantLost {
     guid_prefix: GuidPrefix,
   },
+  // motion-suite patch 12: the SPDP writer sends its last announcement again, unchanged.
+  RepeatParticipantAnnouncement,
   AssertTopicLiveliness {
     writer_guid: GUID,
     manual_assertion: bool,

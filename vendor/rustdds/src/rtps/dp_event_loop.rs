@@ -435,6 +435,14 @@ impl DPEventLoop {
         ReaderLost { reader_guid } => self.remote_reader_lost(reader_guid),
         ParticipantUpdated { guid_prefix } => self.update_participant(guid_prefix),
         ParticipantLost { guid_prefix } => self.remote_participant_lost(guid_prefix),
+        RepeatParticipantAnnouncement => {
+          if let Some(w) = self
+            .writers
+            .get_mut(&EntityId::SPDP_BUILTIN_PARTICIPANT_WRITER)
+          {
+            w.repeat_last_change();
+          }
+        }
         AssertTopicLiveliness {
           writer_guid,
           manual_assertion,

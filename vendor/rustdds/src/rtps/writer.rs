@@ -1017,6 +1017,15 @@ impl Writer {
   // the reader re-NACKs, the retransmit is dropped again, and reliable data
   // (e.g. builtin SEDP DiscoveredWriterData) never gets delivered while a
   // flat-out writer keeps the socket blocked.
+  // motion-suite patch 12: the last sample sent again to every matched reader, unchanged
+  // (same sequence number): the SPDP writer's periodic announcement.
+  pub(crate) fn repeat_last_change(&mut self) {
+    let last = self.send_buffer.last_change_sequence_number();
+    if let Some(cc) = self.send_buffer.get_by_sn(last) {
+      self.send_cache_change(&cc, false, None);
+    }
+  }
+
   fn send_cache_change(
     &self,
     cc: &CacheChange,
