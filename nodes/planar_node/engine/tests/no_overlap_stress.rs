@@ -5,7 +5,6 @@
 mod common;
 use common::*;
 use motion_core::{CommandState, Engine, Tick};
-use planar_engine::geometry::{ConvexPolygon, V2};
 use planar_engine::*;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -43,21 +42,6 @@ fn grid_config(nx: usize, ny: usize, pitch: f64, rng: &mut SmallRng) -> PlanarCo
         enable_time: 0.0,
         ..Default::default()
     }
-}
-
-fn footprints(s: &PlanarSnapshot, cfg: &PlanarConfig) -> Vec<ConvexPolygon> {
-    s.movers
-        .iter()
-        .zip(&cfg.movers)
-        .map(|(m, c)| {
-            ConvexPolygon::rect(
-                V2::new(m.set_pos.x, m.set_pos.y),
-                c.width,
-                c.height,
-                m.set_pos.c,
-            )
-        })
-        .collect()
 }
 
 fn assert_no_overlap(s: &PlanarSnapshot, cfg: &PlanarConfig, step: u64) {

@@ -179,6 +179,45 @@ pub fn abs_dyn(
     })
 }
 
+/// MC_MoveRelative with its dynamics and BufferMode.
+pub fn rel_dyn(distance: f64, v: f64, a: f64, d: f64, j: f64, bm: BufferMode) -> AxisCommand {
+    AxisCommand::MoveRelative(MoveRelative {
+        axis: AX.into(),
+        distance,
+        velocity: v,
+        acceleration: a,
+        deceleration: d,
+        jerk: j,
+        buffer_mode: bm,
+        options: MoveOptions::default(),
+    })
+}
+
+/// MC_MoveAdditive with its dynamics and BufferMode.
+pub fn add_dyn(distance: f64, v: f64, a: f64, d: f64, j: f64, bm: BufferMode) -> AxisCommand {
+    AxisCommand::MoveAdditive(MoveAdditive {
+        axis: AX.into(),
+        distance,
+        velocity: v,
+        acceleration: a,
+        deceleration: d,
+        jerk: j,
+        buffer_mode: bm,
+        options: MoveOptions::default(),
+    })
+}
+
+/// MC_MoveVelocity with its dynamics, direction and BufferMode.
+pub fn vel_dyn(v: f64, dir: Direction, a: f64, d: f64, j: f64, bm: BufferMode) -> AxisCommand {
+    AxisCommand::MoveVelocity(MoveVelocity {
+        acceleration: a,
+        deceleration: d,
+        jerk: j,
+        buffer_mode: bm,
+        ..move_vel(v, dir)
+    })
+}
+
 pub fn rel(distance: f64, velocity: f64) -> AxisCommand {
     AxisCommand::MoveRelative(MoveRelative {
         axis: AX.into(),

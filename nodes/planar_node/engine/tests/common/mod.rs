@@ -273,3 +273,22 @@ pub fn assert_stopped_at_edge(s: &mut Sim, id: CmdId, mover: &str, x_edge: f64) 
     assert_eq!(m.object_info.object_type, PlanarObjectType::Environment);
     assert_eq!(m.object_info.id, s.snap().environment.oid);
 }
+
+/// Each mover's footprint (its configured size) at its set position.
+pub fn footprints(
+    s: &PlanarSnapshot,
+    cfg: &PlanarConfig,
+) -> Vec<planar_engine::geometry::ConvexPolygon> {
+    s.movers
+        .iter()
+        .zip(&cfg.movers)
+        .map(|(m, c)| {
+            planar_engine::geometry::ConvexPolygon::rect(
+                planar_engine::geometry::V2::new(m.set_pos.x, m.set_pos.y),
+                c.width,
+                c.height,
+                m.set_pos.c,
+            )
+        })
+        .collect()
+}
