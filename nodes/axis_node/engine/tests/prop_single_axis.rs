@@ -9,9 +9,13 @@
 //! - every admitted command ends at most once (Done, CommandAborted, Error or ended) and
 //!   reports nothing after its end;
 //! - the same calls give a bit-identical run (determinism).
-//! A failure shrinks to a minimal sequence (kept below as a regression case).
-//! `PROPTEST_CASES` sets the number of cases (default 64 here; `bench fuzz`-style long runs:
-//! `PROPTEST_CASES=100000 cargo test --release -p axis_engine --test prop_single_axis`).
+//!
+//! Two exceptions the runs found are spec behaviour, not defects, and are allowed by name:
+//! a jerk-limited profile taking over while the axis accelerates overshoots the velocity
+//! limit by a0²/(2j) (see `overshoot`), and MC_Reset's fast stop is DiscreteMotion until at
+//! rest (see `allowed`). A failure shrinks to a minimal sequence. `PROPTEST_CASES` sets the
+//! number of cases (default 64 here; a long run: `PROPTEST_CASES=100000 cargo test
+//! --release -p axis_engine --test prop_single_axis`).
 mod common;
 use axis_engine::*;
 use common::*;
@@ -80,9 +84,9 @@ fn command(c: &Call, ids: &[CmdId]) -> AxisCommand {
     match c.kind {
         0 => AxisCommand::Power(Power {
             axis: AX.into(),
-            enable: c.raw % 4 != 0,
-            enable_positive: c.raw % 5 != 0,
-            enable_negative: c.raw % 6 != 0,
+            enable: !c.raw.is_multiple_of(4),
+            enable_positive: !c.raw.is_multiple_of(5),
+            enable_negative: !c.raw.is_multiple_of(6),
             override_percent: o,
             buffer_mode: bm,
         }),
@@ -96,7 +100,7 @@ fn command(c: &Call, ids: &[CmdId]) -> AxisCommand {
         8 => set_position(p),
         9 => AxisCommand::SetOverride(SetOverride {
             axis: AX.into(),
-            enable: c.raw % 2 == 0,
+            enable: c.raw.is_multiple_of(2),
             vel_factor: o,
             acc_factor: a,
             jerk_factor: j,
@@ -104,7 +108,7 @@ fn command(c: &Call, ids: &[CmdId]) -> AxisCommand {
         10 => inject(c.raw),
         11 => match ids.get(c.raw as usize % ids.len().max(1)) {
             // Execute released (MC_Stop's N6) or raised again.
-            Some(&id) => execute(id, c.raw % 2 == 0),
+            Some(&id) => execute(id, c.raw.is_multiple_of(2)),
             None => reset(),
         },
         12 => AxisCommand::MoveContinuousAbsolute(MoveContinuousAbsolute {
@@ -120,8 +124,8 @@ fn command(c: &Call, ids: &[CmdId]) -> AxisCommand {
         }),
         _ => AxisCommand::Jog(Jog {
             axis: AX.into(),
-            jog_forward: c.raw % 2 == 0,
-            jog_backwards: c.raw % 3 == 0,
+            jog_forward: c.raw.is_multiple_of(2),
+            jog_backwards: c.raw.is_multiple_of(3),
             mode: JogMode::from_raw(c.raw % 6).unwrap_or(JogMode::Inching),
             position: p,
             velocity: v,
@@ -160,8 +164,18 @@ fn run(cfg: &AxisConfig, calls: &[Call]) -> Result<Vec<String>, TestCaseError> {
     let mut ended: HashMap<CmdId, CommandState> = HashMap::new();
     let mut state = r.st().motion_state;
     let max_velo = cfg.max_velocity;
+    // A jerk-limited profile that takes over while the axis accelerates (a new command, a
+    // stop, the fast stop of MC_Reset or of an axis error) cannot turn at once: the velocity
+    // goes on rising by a0²/(2j) while the acceleration a0 ramps down with the jerk j it may
+    // use. That much beyond AxisMaxVelocity is allowed (the quick-stop exception),
+    // until the axis is at rest again.
+    let overshoot = std::cell::Cell::new(0.0f64);
     let mut check = |r: &mut Rig, what: &str, reset: bool| -> Result<(), TestCaseError> {
         let st = r.st();
+        if st.set_velo == 0.0 && st.set_acc == 0.0 {
+            overshoot.set(0.0);
+        }
+        let overshoot = overshoot.get();
         for (name, x) in [
             ("set_pos", st.set_pos),
             ("set_velo", st.set_velo),
@@ -177,8 +191,8 @@ fn run(cfg: &AxisConfig, calls: &[Call]) -> Result<Vec<String>, TestCaseError> {
             prop_assert!(x.is_finite(), "{what}: {name} = {x}");
         }
         prop_assert!(
-            st.set_velo.abs() <= max_velo * (1.0 + 1e-9),
-            "{what}: SetVelo {} over AxisMaxVelocity {max_velo}",
+            st.set_velo.abs() <= max_velo * (1.0 + 1e-9) + overshoot,
+            "{what}: SetVelo {} over AxisMaxVelocity {max_velo} + {overshoot}",
             st.set_velo
         );
         prop_assert!(
@@ -205,7 +219,16 @@ fn run(cfg: &AxisConfig, calls: &[Call]) -> Result<Vec<String>, TestCaseError> {
     };
     for (i, c) in calls.iter().enumerate() {
         let cmd = command(c, &ids);
+        let a0 = r.st().set_acc.abs();
         let reply = r.cmd(cmd.clone());
+        if reply.is_ok() || matches!(cmd, AxisCommand::Sim(_)) {
+            // The jerks a taking-over profile may use: the axis' own, its fast stop's, the call's.
+            let j = [cfg.jerk, cfg.fast_jerk, c.args[4]]
+                .into_iter()
+                .filter(|j| j.is_finite() && *j > 0.0)
+                .fold(f64::INFINITY, f64::min);
+            overshoot.set(overshoot.get().max(a0 * a0 / (2.0 * j)));
+        }
         trace.push(format!("{reply:?}"));
         if let Ok(rep) = &reply {
             ids.push(rep.id);

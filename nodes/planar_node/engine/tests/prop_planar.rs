@@ -6,6 +6,7 @@
 //! - no two members of the group overlap (xplanar.md §5.11: the group reserves areas);
 //! - every admitted command ends at most once and reports nothing after its end;
 //! - the same calls give a bit-identical run (determinism).
+//!
 //! A failure shrinks to a minimal sequence. `PROPTEST_CASES` sets the number of cases
 //! (default 32 here; a long run:
 //! `PROPTEST_CASES=10000 cargo test --release -p planar_engine --test prop_planar`).
