@@ -56,6 +56,15 @@ pub trait CommandResponse: Default {
     fn answer(&mut self, accepted: bool, command_id: u64, error_id: u32, message: String);
 }
 
+/// A visitor of the types clients send to the nodes ([`visit_inbound`]).
+pub trait InboundVisitor {
+    /// Called once per type, with its ROS type name (`pkg/srv/X_Request`, `pkg/action/X_Goal`).
+    fn visit<T: serde::de::DeserializeOwned + Serialize + Default + std::fmt::Debug>(
+        &mut self,
+        ros_type_name: &'static str,
+    );
+}
+
 /// A service: request and response types and the ros2-client type name.
 pub trait RosService {
     /// Request message.

@@ -4,6 +4,7 @@
 pub mod docs;
 pub mod flood;
 pub mod foxglove;
+pub mod fuzz;
 pub mod moving_demo;
 
 use motion_core::Engine;

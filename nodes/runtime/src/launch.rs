@@ -374,8 +374,17 @@ pub struct Args {
 }
 
 fn parse_args(usage: &str) -> Result<Args, String> {
+    parse_args_from(std::env::args().skip(1), usage)
+}
+
+/// The command line `args` (without the program name), as the launcher and the node
+/// binaries read it; `usage` is the text of `--help` and of the errors that show it.
+pub fn parse_args_from(
+    args: impl IntoIterator<Item = String>,
+    usage: &str,
+) -> Result<Args, String> {
     let mut a = Args::default();
-    let mut it = std::env::args().skip(1);
+    let mut it = args.into_iter();
     while let Some(arg) = it.next() {
         match arg.as_str() {
             "--ros-args" => {

@@ -147,8 +147,13 @@ fn set_dotted(map: &mut Mapping, dotted: &str, value: Value) {
 /// Reads a ROS parameter file into (node, dotted name, value) entries.
 fn params_file(file: &str) -> Result<Vec<(Option<String>, String, Value)>, String> {
     let text = std::fs::read_to_string(file).map_err(|e| format!("--params-file {file}: {e}"))?;
+    params_text(&text, file)
+}
+
+/// A ROS parameter file's text (`file` names it in messages) as (node, dotted name, value).
+pub fn params_text(text: &str, file: &str) -> Result<Vec<(Option<String>, String, Value)>, String> {
     let root: Value =
-        serde_yaml::from_str(&text).map_err(|e| format!("--params-file {file}: {e}"))?;
+        serde_yaml::from_str(text).map_err(|e| format!("--params-file {file}: {e}"))?;
     let nodes = root
         .as_mapping()
         .ok_or_else(|| format!("--params-file {file}: expected a mapping of node names"))?;
