@@ -9,8 +9,11 @@ use motion_runtime::ros_args::params_text;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
+/// A fuzz target: arbitrary bytes in, nothing out; must not panic or hang.
+pub type Target = fn(&[u8]);
+
 /// The targets by name (the corpus directories are named the same).
-pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+pub const TARGETS: &[(&str, Target)] = &[
     ("launch_config", launch_config),
     ("command_line", command_line),
     ("params_yaml", params_yaml),
