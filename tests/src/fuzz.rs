@@ -86,7 +86,9 @@ pub fn cdr_inbound(data: &[u8]) {
             self.seen += 1;
         }
     }
-    let count = inbound_type_count();
+    // Counted once: this runs for every input of a campaign.
+    static COUNT: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    let count = *COUNT.get_or_init(inbound_type_count);
     let mut v = Decode {
         pick: pick as usize % count,
         seen: 0,

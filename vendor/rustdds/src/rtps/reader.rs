@@ -505,11 +505,9 @@ impl Reader {
   pub fn remove_writer_proxy(&mut self, writer_guid: GUID) {
     if self.matched_writers.contains_key(&writer_guid) {
       self.matched_writers.remove(&writer_guid);
-      let mut topic_cache = self.acquire_the_topic_cache_guard();
-      topic_cache.forget_reliable_writer(writer_guid);
-      // motion-suite patch 11: if it comes back, it starts afresh.
-      topic_cache.writer_lost(writer_guid);
-      drop(topic_cache);
+      self
+        .acquire_the_topic_cache_guard()
+        .writer_lost(writer_guid);
       #[cfg(feature = "security")]
       if let Some(security_plugins_handle) = &self.security_plugins {
         security_plugins_handle

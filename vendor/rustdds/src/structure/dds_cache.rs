@@ -271,13 +271,10 @@ impl TopicCache {
     }
   }
 
-  // The Writer is gone, so samples it never completed are no longer awaited.
-  pub fn forget_reliable_writer(&mut self, writer: GUID) {
-    self.received_reliably_before.remove(&writer);
-  }
-
-  // The Writer's proxy was removed (patch 11): if it sends again, it starts afresh.
+  // The Writer is gone (its proxy was removed): samples it never completed are no longer
+  // awaited, and if it sends again it starts afresh (patch 11).
   pub fn writer_lost(&mut self, writer: GUID) {
+    self.received_reliably_before.remove(&writer);
     self.lost_writers.insert(writer);
     while self.lost_writers.len() > MAX_LOST_WRITERS {
       self.lost_writers.pop_first();
